@@ -1,0 +1,1 @@
+"""Real-IKEA: physically faithful articulated-object assets and learning stack."""

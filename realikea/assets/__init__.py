@@ -1,0 +1,1 @@
+"""Asset library: catalog, procedural meshes, the six-step workflow, cache and MJCF."""

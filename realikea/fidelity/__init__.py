@@ -1,0 +1,1 @@
+"""Collision fidelity: bidirectional surface deviation between visual and collision shells."""
