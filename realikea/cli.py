@@ -1,0 +1,37 @@
+"""The `realikea` console command: one sub-command group per concern."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from realikea.errors import RealIkeaError
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Assemble the argument parser from each group's `register` function."""
+    from realikea.assets import commands as asset_commands
+    from realikea.fidelity import commands as fidelity_commands
+
+    parser = argparse.ArgumentParser(prog="realikea", description=__doc__)
+    groups = parser.add_subparsers(dest="group", required=True, metavar="{assets,fidelity}")
+    asset_commands.register(groups.add_parser("assets", help="build and inspect the asset library"))
+    fidelity_commands.register(
+        groups.add_parser("fidelity", help="collision-mesh fidelity metric and reports")
+    )
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run one command; user errors print one clear line and exit 2."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.run(args) or 0)
+    except RealIkeaError as err:
+        print(f"realikea: error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
