@@ -1,0 +1,243 @@
+"""Run the six steps over the library: parts through steps 1-4 (cached), configurations 5-6."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from collections.abc import Iterable
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from omegaconf import DictConfig
+from tqdm import tqdm
+
+from realikea.assets import shapes
+from realikea.assets.cache import atomic_write_text, cached_entry, link_or_copy, staging_dir
+from realikea.assets.catalog import Configuration, Part, content_hash
+from realikea.assets.workflow import (
+    assembly,
+    cleaning,
+    clipping,
+    collision,
+    integration,
+    segmentation,
+)
+
+PART_STEPS_VERSION = "1"  # bump when steps 1-4 change what they write
+CONFIG_STEPS_VERSION = "1"  # bump when steps 5-6 change what they write
+INDEX_COLUMNS = (
+    "config_id",
+    "part_id",
+    "base_id",
+    "category",
+    "joint_type",
+    "mjcf_coacd",
+    "mjcf_hull",
+)
+
+
+@dataclass(frozen=True)
+class WorkflowSettings:
+    """The knobs of the workflow that change derived files (part of every cache key)."""
+
+    coacd: collision.CoacdSettings
+    mount_clearance: float
+    front_clearance: float
+
+    @classmethod
+    def from_config(cls, cfg: DictConfig) -> WorkflowSettings:
+        wf = cfg.workflow
+        return cls(collision.CoacdSettings(**wf.coacd), wf.mount_clearance, wf.front_clearance)
+
+
+@dataclass(frozen=True)
+class Resistance:
+    """Joint damping and friction loss of one resistance mode."""
+
+    name: str
+    damping: float
+    frictionloss: float
+
+
+@dataclass(frozen=True)
+class PartMeshes:
+    """A part's cached step 1-4 results: the visual mesh and the pieces of each collision source."""
+
+    key: str
+    visual: Path
+    pieces: dict[str, list[Path]]
+
+    @classmethod
+    def from_folder(cls, folder: Path) -> PartMeshes:
+        meta = json.loads((folder / "meta.json").read_text())
+        pieces = {src: [folder / f for f in files] for src, files in meta["pieces"].items()}
+        return cls(folder.name, folder / meta["visual"], pieces)
+
+
+def part_key(part: Part, settings: WorkflowSettings) -> str:
+    """Cache key of a part's meshes: its data, the generators and the step 1-4 settings."""
+    return content_hash(
+        {
+            "part": part.fingerprint(),
+            "generator": shapes.GENERATOR_VERSION,
+            "steps": PART_STEPS_VERSION,
+            "coacd": asdict(settings.coacd),
+            "mount_clearance": settings.mount_clearance,
+        }
+    )
+
+
+def write_part_meshes(part: Part, settings: WorkflowSettings, folder: Path) -> None:
+    """Steps 1-4 for one part, writing meshes and a meta.json into `folder`."""
+    components = segmentation.formatted_components(part)  # step 1
+    solid = cleaning.cleaned_solid(components)  # step 2
+    clipped = clipping.clipped_for_collision(solid, settings.mount_clearance)  # step 3
+    sources = {  # step 4
+        "coacd": collision.coacd_pieces(clipped, settings.coacd),
+        "hull": [collision.convex_hull(clipped)],
+    }
+    solid.export(folder / "visual.obj")
+    pieces = {}
+    for source, meshes in sources.items():
+        pieces[source] = [f"{source}_{i:03d}.stl" for i in range(len(meshes))]
+        for name, mesh in zip(pieces[source], meshes, strict=True):
+            mesh.export(folder / name)
+    meta = {
+        "part_id": part.id,
+        "visual": "visual.obj",
+        "pieces": pieces,
+        "visual_faces": len(solid.faces),
+        "visual_vertices": len(solid.vertices),
+        "watertight": bool(solid.is_watertight),
+    }
+    (folder / "meta.json").write_text(json.dumps(meta, indent=1))
+
+
+def ensure_part(
+    part: Part, settings: WorkflowSettings, cache_root: Path
+) -> tuple[str, PartMeshes, bool]:
+    """The part's cached meshes, built on a miss; returns (part id, meshes, built)."""
+    key = part_key(part, settings)
+    folder, built = cached_entry(
+        cache_root / "parts", f"{part.id}-{key}", lambda d: write_part_meshes(part, settings, d)
+    )
+    return part.id, PartMeshes.from_folder(folder), built
+
+
+def config_key(
+    config: Configuration,
+    meshes: PartMeshes,
+    resistance: Resistance,
+    settings: WorkflowSettings,
+    sources: tuple[str, ...],
+) -> str:
+    return content_hash(
+        {
+            "part": meshes.key,
+            "base": config.base.fingerprint(),
+            "friction": config.part.friction,
+            "resistance": asdict(resistance),
+            "front_clearance": settings.front_clearance,
+            "sources": sources,
+            "steps": CONFIG_STEPS_VERSION,
+        }
+    )
+
+
+def write_configuration(
+    config: Configuration,
+    meshes: PartMeshes,
+    resistance: Resistance,
+    settings: WorkflowSettings,
+    sources: tuple[str, ...],
+    out_dir: Path,
+) -> bool:
+    """Steps 5-6 for one configuration into `out_dir/<config id>/`; False if already current."""
+    folder = out_dir / config.id
+    key = config_key(config, meshes, resistance, settings, sources)
+    record = folder / "build.json"
+    if record.is_file() and json.loads(record.read_text()).get("key") == key:
+        return False
+    row = {
+        "config_id": config.id,
+        "part_id": config.part.id,
+        "base_id": config.base.id,
+        "category": config.part.category,
+        "joint_type": config.base.joint,
+    }
+    with staging_dir(folder) as tmp:
+        link_or_copy(meshes.visual, tmp / "meshes" / "visual.obj")
+        for source in sources:
+            names = {}
+            for i, piece in enumerate(meshes.pieces[source]):
+                link_or_copy(piece, tmp / "meshes" / piece.name)
+                names[f"part_{source}_{i:03d}"] = f"meshes/{piece.name}"
+            unit = assembly.assemble(  # step 5
+                config.part, config.base, names, "meshes/visual.obj",
+                resistance.damping, resistance.frictionloss, settings.front_clearance,
+            )  # fmt: skip
+            integration.write_mjcf(unit, tmp / f"model_{source}.xml")  # step 6
+            row[f"mjcf_{source}"] = f"{config.id}/model_{source}.xml"
+        (tmp / "build.json").write_text(json.dumps({"key": key, "row": row}, indent=1))
+    return True
+
+
+@dataclass
+class BuildReport:
+    parts_built: int
+    parts_cached: int
+    configs_built: int
+    configs_cached: int
+    index: Path
+
+
+def build_library(
+    configs: Iterable[Configuration],
+    settings: WorkflowSettings,
+    resistance: Resistance,
+    sources: tuple[str, ...],
+    cache_root: Path,
+    out_dir: Path,
+    workers: int | None = None,
+    progress: bool = True,
+) -> BuildReport:
+    """Build configurations in parallel (parts first, then assembly) and rewrite index.csv."""
+    configs = list(configs)
+    parts = list({c.part.id: c.part for c in configs}.values())
+    workers = workers or os.cpu_count() or 1
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        jobs = pool.map(ensure_part, parts, [settings] * len(parts), [cache_root] * len(parts))
+        done = list(tqdm(jobs, total=len(parts), desc="parts (steps 1-4)", disable=not progress))
+        meshes = {pid: m for pid, m, _ in done}
+        parts_built = sum(built for *_, built in done)
+        jobs = pool.map(
+            write_configuration,
+            configs,
+            [meshes[c.part.id] for c in configs],
+            [resistance] * len(configs),
+            [settings] * len(configs),
+            [sources] * len(configs),
+            [out_dir] * len(configs),
+            chunksize=8,
+        )
+        built = list(
+            tqdm(jobs, total=len(configs), desc="configurations (steps 5-6)", disable=not progress)
+        )
+    index = write_index(out_dir)
+    return BuildReport(
+        parts_built, len(parts) - parts_built, sum(built), len(built) - sum(built), index
+    )
+
+
+def write_index(out_dir: Path) -> Path:
+    """index.csv of every configuration folder under `out_dir` (written atomically)."""
+    rows = [json.loads(p.read_text())["row"] for p in sorted(out_dir.glob("*/build.json"))]
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, INDEX_COLUMNS, restval="", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    atomic_write_text(out_dir / "index.csv", buffer.getvalue())
+    return out_dir / "index.csv"

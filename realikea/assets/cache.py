@@ -1,0 +1,71 @@
+"""Content-addressed cache entries and atomic writes: a reader never sees a half-written file."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections.abc import Callable
+from contextlib import contextmanager
+from pathlib import Path
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write a text file via a temporary sibling and `os.replace`."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+@contextmanager
+def staging_dir(final: Path):
+    """Yield an empty temporary folder that replaces `final` only if the block succeeds."""
+    final.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=final.parent, prefix=f".{final.name}.", suffix=".tmp"))
+    try:
+        yield tmp
+        if final.exists():
+            old = Path(tempfile.mkdtemp(dir=final.parent, prefix=f".{final.name}.", suffix=".old"))
+            os.replace(final, old / final.name)
+            os.replace(tmp, final)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(tmp, final)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def cached_entry(root: Path, key: str, build: Callable[[Path], None]) -> tuple[Path, bool]:
+    """Return (`root/key`, built) building the entry with `build(folder)` on a miss."""
+    entry = root / key
+    if entry.is_dir():
+        return entry, False
+    with staging_dir(entry) as tmp:
+        build(tmp)
+    return entry, True
+
+
+def link_or_copy(src: Path, dst: Path) -> None:
+    """Hard-link a cached file into an output folder, copying across file systems."""
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        os.link(src, dst)
+    except OSError:
+        shutil.copy2(src, dst)
+
+
+def remove_stale_temporaries(root: Path) -> None:
+    """Delete leftovers of interrupted builds (hidden `.tmp`/`.old` siblings)."""
+    if not root.is_dir():
+        return
+    for leftover in list(root.glob(".*.tmp")) + list(root.glob(".*.old")):
+        if leftover.is_dir():
+            shutil.rmtree(leftover, ignore_errors=True)
+        else:
+            leftover.unlink(missing_ok=True)

@@ -1,0 +1,219 @@
+"""The catalog as data: interactive parts and base units read from CSV, validated, combined."""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+from realikea.errors import RealIkeaError
+
+CATEGORIES = ("knob", "two_point", "finger_pull")
+FRICTION_CLASSES = {
+    "polished_metal": 0.4,
+    "brushed_metal": 0.6,
+    "plastic": 0.5,
+    "wood": 0.6,
+    "rubberized": 0.9,
+}
+BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
+REPO_ROOT = Path(__file__).resolve().parents[2]
+
+
+def catalog_dir() -> Path:
+    """The catalog folder: `$REALIKEA_CATALOG` if set, else the repository's `assets/`."""
+    return Path(os.environ.get("REALIKEA_CATALOG", REPO_ROOT / "assets"))
+
+
+def content_hash(payload: object) -> str:
+    """A stable short hash of JSON-serialisable data (the cache key of derived files)."""
+    blob = json.dumps(payload, sort_keys=True, separators=(",", ":")).encode()
+    return hashlib.sha256(blob).hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class Part:
+    """One interactive part: a procedural family with dimensions, or an imported mesh."""
+
+    id: str
+    category: str
+    family: str
+    friction: str
+    dims: dict[str, float] = field(default_factory=dict)
+    mesh_file: Path | None = None  # set for imported parts: the formatted source mesh
+
+    @property
+    def friction_coefficient(self) -> float:
+        return FRICTION_CLASSES[self.friction]
+
+    def fingerprint(self) -> dict:
+        """Everything the part's derived meshes depend on."""
+        data = {"id": self.id, "family": self.family, "dims": self.dims}
+        if self.mesh_file is not None:
+            data["mesh_sha256"] = hashlib.sha256(self.mesh_file.read_bytes()).hexdigest()
+        return data
+
+
+@dataclass(frozen=True)
+class Base:
+    """One base furniture unit: a carcass and one moving front with its joint and mount."""
+
+    id: str
+    kind: str
+    joint: str
+    width: float
+    height: float
+    depth: float
+    front_thickness: float
+    reveal: float
+    travel: float
+    hinge: str
+    mount_u: float
+    mount_v: float
+    mount_roll_deg: float
+
+    def fingerprint(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """One articulated configuration: a part mounted on a base's moving front."""
+
+    part: Part
+    base: Base
+
+    @property
+    def id(self) -> str:
+        return f"{self.part.id}__{self.base.id}"
+
+
+class Catalog:
+    """All parts (catalog rows plus imported twins) and bases, with lookups that name bad ids."""
+
+    def __init__(self, parts: list[Part], bases: list[Base]):
+        self.parts = {p.id: p for p in parts}
+        self.bases = {b.id: b for b in bases}
+        for kind, items, rows in (("part", self.parts, parts), ("base", self.bases, bases)):
+            if len(items) != len(rows):
+                seen: set[str] = set()
+                dup = next(r.id for r in rows if r.id in seen or seen.add(r.id))
+                raise RealIkeaError(f"duplicate {kind} id {dup!r} in the catalog")
+
+    @classmethod
+    def load(cls, root: Path | None = None) -> Catalog:
+        """Read `parts.csv`, `bases.csv` and every imported part under `imported/`."""
+        root = Path(root) if root is not None else catalog_dir()
+        parts = [_part_from_row(row, root / "parts.csv") for row in _rows(root / "parts.csv")]
+        parts += [_imported_part(path) for path in sorted(root.glob("imported/*/part.json"))]
+        bases = [_base_from_row(row, root / "bases.csv") for row in _rows(root / "bases.csv")]
+        return cls(parts, bases)
+
+    def part(self, part_id: str) -> Part:
+        if part_id not in self.parts:
+            raise RealIkeaError(f"unknown part id {part_id!r}; `realikea assets list` shows them")
+        return self.parts[part_id]
+
+    def base(self, base_id: str) -> Base:
+        if base_id not in self.bases:
+            known = ", ".join(self.bases)
+            raise RealIkeaError(f"unknown base id {base_id!r}; known bases: {known}")
+        return self.bases[base_id]
+
+    def parts_in(self, category: str) -> list[Part]:
+        """Parts of one category, or all of them for `all`."""
+        if category != "all" and category not in CATEGORIES:
+            raise RealIkeaError(
+                f"unknown category {category!r}; choose one of {', '.join(CATEGORIES)} or all"
+            )
+        return [p for p in self.parts.values() if category in ("all", p.category)]
+
+    def configurations(
+        self, category: str = "all", part: str | None = None, base: str | None = None
+    ) -> Iterator[Configuration]:
+        """Every part × base pair of a category, optionally pinned to one part and/or one base."""
+        parts = [self.part(part)] if part else self.parts_in(category)
+        bases = [self.base(base)] if base else list(self.bases.values())
+        for p in parts:
+            for b in bases:
+                yield Configuration(p, b)
+
+    @cached_property
+    def n_configurations(self) -> int:
+        return len(self.parts) * len(self.bases)
+
+
+def _rows(path: Path) -> list[dict[str, str]]:
+    if not path.is_file():
+        raise RealIkeaError(f"catalog file not found: {path}")
+    with path.open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def _number(value: str, column: str, row_id: str, path: Path) -> float:
+    try:
+        return float(value)
+    except ValueError:
+        raise RealIkeaError(
+            f"{path}: {row_id}: column {column!r} is not a number: {value!r}"
+        ) from None
+
+
+def _check_common(row_id: str, category: str, friction: str, path: Path) -> None:
+    if category not in CATEGORIES:
+        raise RealIkeaError(
+            f"{path}: {row_id}: unknown category {category!r}; "
+            f"choose one of {', '.join(CATEGORIES)}"
+        )
+    if friction not in FRICTION_CLASSES:
+        raise RealIkeaError(
+            f"{path}: {row_id}: unknown friction class {friction!r}; "
+            f"choose one of {', '.join(FRICTION_CLASSES)}"
+        )
+
+
+def _part_from_row(row: dict[str, str], path: Path) -> Part:
+    from realikea.assets.shapes import FAMILIES
+
+    pid, category, family, friction = (
+        row[k].strip() for k in ("id", "category", "family", "friction")
+    )
+    _check_common(pid, category, friction, path)
+    if family not in FAMILIES or FAMILIES[family].category != category:
+        raise RealIkeaError(f"{path}: {pid}: unknown {category} family {family!r}")
+    fixed = {"id", "category", "family", "friction"}
+    dims = {k: _number(v, k, pid, path) for k, v in row.items() if k not in fixed and v.strip()}
+    missing = [k for k in FAMILIES[family].dims if k not in dims]
+    if missing:
+        raise RealIkeaError(f"{path}: {pid}: family {family!r} needs dimensions {missing}")
+    return Part(pid, category, family, friction, dims)
+
+
+def _imported_part(path: Path) -> Part:
+    meta = json.loads(path.read_text())
+    _check_common(meta["id"], meta["category"], meta["friction"], path)
+    return Part(
+        meta["id"], meta["category"], "imported", meta["friction"], {}, path.parent / "mesh.ply"
+    )
+
+
+def _base_from_row(row: dict[str, str], path: Path) -> Base:
+    bid = row["id"].strip()
+    kind, joint, hinge = row["kind"].strip(), row["joint"].strip(), row["hinge"].strip()
+    if BASE_KINDS.get(kind) != joint:
+        raise RealIkeaError(f"{path}: {bid}: kind {kind!r} with joint {joint!r} is not supported")
+    if (kind == "door") != (hinge in ("left", "right")) or (kind == "flap") != (hinge == "bottom"):
+        raise RealIkeaError(f"{path}: {bid}: hinge {hinge!r} does not fit a {kind}")
+    numbers = {
+        k: _number(row[k], k, bid, path)
+        for k in (
+            "width", "height", "depth", "front_thickness", "reveal", "travel",
+            "mount_u", "mount_v", "mount_roll_deg",
+        )
+    }  # fmt: skip
+    return Base(bid, kind, joint, hinge=hinge, **numbers)

@@ -1,0 +1,120 @@
+"""`realikea assets ...`: build, list, gallery and import."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.catalog import Catalog
+from realikea.config import load_config, repo_path
+from realikea.errors import RealIkeaError
+
+OVERRIDES_HELP = "Hydra overrides, e.g. resistance=high asset=knob workflow.coacd.threshold=0.03"
+
+
+def register(parser: argparse.ArgumentParser) -> None:
+    """Add the asset sub-commands to `parser`."""
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    build = commands.add_parser("build", help="run the six-step workflow into MJCF folders")
+    which = build.add_mutually_exclusive_group()
+    which.add_argument("--all", action="store_true", help="all part x base configurations")
+    which.add_argument("--part", help="one part id (all bases unless --base is given)")
+    build.add_argument("--base", help="one base id")
+    build.add_argument("--collision", choices=("coacd", "hull", "both"), default="both")
+    build.add_argument("--out", type=Path, help="library folder (default: paths.library)")
+    build.add_argument("--workers", type=int, help="processes (default: all cores)")
+    build.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    build.set_defaults(run=run_build)
+
+    listing = commands.add_parser("list", help="print the catalog")
+    listing.set_defaults(run=run_list)
+
+    gallery = commands.add_parser("gallery", help="render a contact sheet PNG")
+    gallery.add_argument("--out", type=Path, default=Path("outputs/gallery.png"))
+    gallery.add_argument("--configs", type=int, default=12, help="sampled configurations")
+    gallery.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    gallery.set_defaults(run=run_gallery)
+
+    imp = commands.add_parser("import", help="add a scanned or CAD part to the library")
+    imp.add_argument("path", type=Path, help="OBJ/STL/PLY/GLB mesh in the part frame")
+    imp.add_argument("--category", required=True, help="knob, two_point or finger_pull")
+    imp.add_argument("--id", dest="part_id", help="part id (default: from the file name)")
+    imp.add_argument("--scale", type=float, default=1.0, help="multiply coordinates (mm: 0.001)")
+    imp.add_argument("--friction", default="plastic", help="surface friction class")
+    imp.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    imp.set_defaults(run=run_import)
+
+
+def run_build(args: argparse.Namespace) -> int:
+    cfg = load_config(args.overrides)
+    catalog = Catalog.load()
+    if args.all:
+        configs = list(catalog.configurations())
+    elif args.part or args.base:
+        configs = list(catalog.configurations(cfg.asset.category, args.part, args.base))
+    else:
+        configs = list(catalog.configurations(cfg.asset.category, cfg.asset.part, cfg.asset.base))
+    sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
+    out = args.out or repo_path(cfg.paths.library)
+    start = time.perf_counter()
+    report = build_library(
+        configs,
+        WorkflowSettings.from_config(cfg),
+        Resistance(**cfg.resistance),
+        sources,
+        repo_path(cfg.paths.cache),
+        out,
+        workers=args.workers,
+    )
+    seconds = time.perf_counter() - start
+    print(
+        f"{len(configs)} configurations ({', '.join(sources)}) in {seconds:.1f} s:"
+        f" parts built {report.parts_built}, cached {report.parts_cached};"
+        f" configurations built {report.configs_built}, up to date {report.configs_cached}"
+    )
+    print(f"index: {report.index}")
+    return 0
+
+
+def run_list(args: argparse.Namespace) -> int:
+    catalog = Catalog.load()
+    print(f"{'part':<28} {'category':<12} {'family':<12} {'friction':<15} dimensions (mm)")
+    for p in catalog.parts.values():
+        dims = " ".join(f"{k}={v * 1000:g}" for k, v in p.dims.items()) or f"mesh {p.mesh_file}"
+        print(f"{p.id:<28} {p.category:<12} {p.family:<12} {p.friction:<15} {dims}")
+    print(f"\n{'base':<22} {'kind':<7} {'joint':<6} {'W x H x D (cm)':<16} {'range':<8} mount")
+    for b in catalog.bases.values():
+        size = f"{b.width * 100:g}x{b.height * 100:g}x{b.depth * 100:g}"
+        unit = "m" if b.joint == "slide" else "rad"
+        mount = f"u={b.mount_u:g} v={b.mount_v:g} roll={b.mount_roll_deg:g}deg"
+        print(f"{b.id:<22} {b.kind:<7} {b.joint:<6} {size:<16} {b.travel:g} {unit:<4} {mount}")
+    by_category = {c: len(catalog.parts_in(c)) for c in ("knob", "two_point", "finger_pull")}
+    print(
+        f"\n{len(catalog.parts)} parts {by_category} x {len(catalog.bases)} bases"
+        f" = {catalog.n_configurations} configurations"
+    )
+    return 0
+
+
+def run_gallery(args: argparse.Namespace) -> int:
+    from realikea.assets.gallery import render_gallery
+
+    cfg = load_config(args.overrides)
+    path = render_gallery(cfg, args.out, n_configs=args.configs)
+    print(f"gallery: {path}")
+    return 0
+
+
+def run_import(args: argparse.Namespace) -> int:
+    from realikea.assets.importer import import_part
+
+    cfg = load_config(args.overrides)
+    if args.scale <= 0:
+        raise RealIkeaError(f"--scale must be positive, got {args.scale}")
+    part = import_part(args.path, args.category, args.part_id, args.scale, args.friction, cfg)
+    print(f"imported {part.id} ({part.category}) -> {part.mesh_file.parent}")
+    print(f"build it: realikea assets build --part {part.id}")
+    return 0

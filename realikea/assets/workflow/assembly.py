@@ -1,0 +1,198 @@
+"""Step 5, assembly and joint parameterization: carcass, moving front, mounted part, joint.
+
+Cabinet frame: origin at the bottom centre of the carcass's front plane, +x out of the front
+(towards the robot), +y to the viewer's right, +z up. The carcass and the moving front are
+sibling bodies so their contacts are simulated; the drawer tray is an internal feature and
+only visual (step 2 for bases).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from realikea.assets.catalog import Base, Part
+from realikea.assets.workflow.clipping import inset_half_extents
+
+PANEL = 0.018  # m carcass board thickness
+TRAY_BOARD = 0.012  # m drawer tray board thickness
+FRONT_GAP = 0.001  # m between the closed front's back face and the carcass edge
+BOARD_DENSITY = 650.0  # kg/m^3 particle board
+PART_DENSITY = {  # kg/m^3 by friction class: zinc die-cast, plastic, wood, coated metal
+    "polished_metal": 6600.0,
+    "brushed_metal": 6600.0,
+    "plastic": 1200.0,
+    "wood": 700.0,
+    "rubberized": 6600.0,
+}
+VISUAL_GROUP, COLLISION_GROUP = 2, 3
+WOOD_RGBA = (0.82, 0.74, 0.62, 1.0)
+PART_RGBA = (0.55, 0.57, 0.6, 1.0)
+COLLISION_RGBA = (0.9, 0.3, 0.2, 0.5)
+
+
+@dataclass(frozen=True)
+class Geom:
+    """One MuJoCo geom: a box (half-extents) or a mesh asset, visual-only or colliding."""
+
+    name: str
+    pos: tuple[float, ...] = (0.0, 0.0, 0.0)
+    quat: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)
+    box: tuple[float, ...] | None = None
+    mesh: str | None = None
+    collides: bool = True
+    density: float = 0.0
+    friction: float = 1.0
+    rgba: tuple[float, ...] = WOOD_RGBA
+
+
+@dataclass(frozen=True)
+class Joint:
+    """The front's one degree of freedom with its resistance."""
+
+    name: str
+    type: str  # slide | hinge
+    pos: tuple[float, ...]
+    axis: tuple[float, ...]
+    range: tuple[float, float]
+    damping: float
+    frictionloss: float
+
+
+@dataclass(frozen=True)
+class Body:
+    name: str
+    geoms: list[Geom]
+    joint: Joint | None = None
+    pos: tuple[float, ...] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A configuration ready to serialise: bodies under one root and the mesh files they use."""
+
+    name: str
+    bodies: list[Body]
+    meshes: dict[str, str] = field(default_factory=dict)  # asset name -> relative file
+
+
+def carcass(base: Base) -> Body:
+    """The static cabinet: two sides, top, bottom and back, all colliding boxes."""
+    w, h, d, t = base.width / 2, base.height, base.depth, PANEL
+    boxes = {
+        "side_left": ((-d / 2, -w + t / 2, h / 2), (d / 2, t / 2, h / 2)),
+        "side_right": ((-d / 2, w - t / 2, h / 2), (d / 2, t / 2, h / 2)),
+        "bottom": ((-d / 2, 0, t / 2), (d / 2, w - t, t / 2)),
+        "top": ((-d / 2, 0, h - t / 2), (d / 2, w - t, t / 2)),
+        "back": ((-d + t / 2, 0, h / 2), (t / 2, w - t, h / 2 - t)),
+    }
+    geoms = [Geom(f"carcass_{k}", pos, box=half) for k, (pos, half) in boxes.items()]
+    return Body("carcass", geoms)
+
+
+def front_outline(base: Base) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and half-extents of the closed front's visual box."""
+    half = np.array(
+        [base.front_thickness / 2, base.width / 2 - base.reveal, base.height / 2 - base.reveal]
+    )
+    centre = np.array([FRONT_GAP + base.front_thickness / 2, 0.0, base.height / 2])
+    return centre, half
+
+
+def mount_pose(base: Base) -> tuple[np.ndarray, np.ndarray]:
+    """Position and quaternion (w, x, y, z) of the part frame on the front's outer face."""
+    centre, half = front_outline(base)
+    pos = centre + np.array(
+        [half[0], (2 * base.mount_u - 1) * half[1], (2 * base.mount_v - 1) * half[2]]
+    )
+    to_front = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # part x,y,z columns
+    rot = Rotation.from_matrix(to_front) * Rotation.from_euler(
+        "z", base.mount_roll_deg, degrees=True
+    )
+    x, y, z, w = rot.as_quat()
+    return pos, np.array([w, x, y, z])
+
+
+def front_joint(base: Base, damping: float, frictionloss: float) -> Joint:
+    """Slide along +x for drawers; hinge at the front's back edge for doors and flaps."""
+    _, half = front_outline(base)
+    if base.kind == "drawer":
+        return Joint(
+            "front_joint", "slide", (0, 0, 0), (1, 0, 0), (0, base.travel), damping, frictionloss
+        )
+    if base.kind == "flap":
+        pos, axis = (FRONT_GAP, 0, base.reveal), (0, 1, 0)
+    else:
+        side = -1 if base.hinge == "left" else 1
+        pos, axis = (FRONT_GAP, side * half[1], 0), (0, 0, side)
+    return Joint("front_joint", "hinge", pos, axis, (0, base.travel), damping, frictionloss)
+
+
+def drawer_tray(base: Base) -> list[Geom]:
+    """The box behind a drawer front: visual only, it never touches the carcass (step 2)."""
+    t = TRAY_BOARD
+    depth = min(base.travel + 0.05, base.depth - PANEL - 0.01)
+    half_w = base.width / 2 - PANEL - 0.013
+    h = max(base.height - 2 * base.reveal - 0.04, 0.04)
+    z0 = base.reveal + 0.01
+    x_mid = FRONT_GAP - depth / 2
+    boxes = {
+        "tray_bottom": ((x_mid, 0, z0 + t / 2), (depth / 2, half_w, t / 2)),
+        "tray_left": ((x_mid, -half_w + t / 2, z0 + h / 2), (depth / 2, t / 2, h / 2)),
+        "tray_right": ((x_mid, half_w - t / 2, z0 + h / 2), (depth / 2, t / 2, h / 2)),
+        "tray_back": ((FRONT_GAP - depth + t / 2, 0, z0 + h / 2), (t / 2, half_w, h / 2)),
+    }
+    return [
+        Geom(k, pos, box=half, collides=False, density=BOARD_DENSITY)
+        for k, (pos, half) in boxes.items()
+    ]
+
+
+def assemble(
+    part: Part,
+    base: Base,
+    collision_meshes: dict[str, str],
+    visual_mesh: str,
+    damping: float,
+    frictionloss: float,
+    front_clearance: float,
+) -> Assembly:
+    """Put a part on a base's front with the chosen collision meshes and joint resistance."""
+    centre, half = front_outline(base)
+    front = [
+        Geom("front_visual", tuple(centre), box=tuple(half), collides=False, density=BOARD_DENSITY),
+        Geom(
+            "front_collision",
+            tuple(centre),
+            box=tuple(inset_half_extents(half, front_clearance)),
+            rgba=COLLISION_RGBA,
+        ),
+    ]
+    pos, quat = mount_pose(base)
+    mounted = dict(pos=tuple(pos), quat=tuple(quat))
+    part_geoms = [
+        Geom(
+            "part_visual",
+            mesh="part_visual",
+            collides=False,
+            density=PART_DENSITY[part.friction],
+            rgba=PART_RGBA,
+            **mounted,
+        ),
+        *(
+            Geom(
+                f"part_collision_{i:03d}",
+                mesh=name,
+                friction=part.friction_coefficient,
+                rgba=COLLISION_RGBA,
+                **mounted,
+            )
+            for i, name in enumerate(collision_meshes)
+        ),
+    ]
+    trays = drawer_tray(base) if base.kind == "drawer" else []
+    moving = Body("front", front + trays + part_geoms, front_joint(base, damping, frictionloss))
+    meshes = {"part_visual": visual_mesh, **collision_meshes}
+    return Assembly(f"{part.id}__{base.id}", [carcass(base), moving], meshes)

@@ -1,0 +1,37 @@
+"""Compose the Hydra config outside `train.py` (CLI commands, tests) with clear override errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from hydra import compose, initialize_config_dir
+from hydra.core.global_hydra import GlobalHydra
+from hydra.errors import HydraException
+from omegaconf import DictConfig, OmegaConf
+from omegaconf.errors import OmegaConfBaseException
+
+from realikea.assets.catalog import REPO_ROOT
+from realikea.errors import RealIkeaError
+
+CONF_DIR = REPO_ROOT / "conf"
+
+
+def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
+    """The root config with Hydra-style `group=value` / `key=value` overrides applied."""
+    GlobalHydra.instance().clear()
+    try:
+        with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
+            cfg = compose("config", overrides=list(overrides))
+        OmegaConf.resolve(cfg)
+    except (HydraException, OmegaConfBaseException) as err:
+        message = str(err).split("\nConfig search path")[0].strip()
+        raise RealIkeaError(f"bad config override {' '.join(overrides)!r}: {message}") from err
+    finally:
+        GlobalHydra.instance().clear()
+    return cfg
+
+
+def repo_path(value: str | Path) -> Path:
+    """A config path: absolute as given, relative to the repository root otherwise."""
+    path = Path(value).expanduser()
+    return path if path.is_absolute() else REPO_ROOT / path
