@@ -194,6 +194,21 @@ class BuildReport:
     index: Path
 
 
+def build_parts(
+    parts: Iterable[Part],
+    settings: WorkflowSettings,
+    cache_root: Path,
+    workers: int | None = None,
+    progress: bool = True,
+) -> tuple[dict[str, PartMeshes], int]:
+    """Steps 1-4 for many parts in parallel; returns their meshes by id and how many were built."""
+    parts = list({p.id: p for p in parts}.values())
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+        jobs = pool.map(ensure_part, parts, [settings] * len(parts), [cache_root] * len(parts))
+        done = list(tqdm(jobs, total=len(parts), desc="parts (steps 1-4)", disable=not progress))
+    return {pid: meshes for pid, meshes, _ in done}, sum(built for *_, built in done)
+
+
 def build_library(
     configs: Iterable[Configuration],
     settings: WorkflowSettings,
@@ -206,13 +221,10 @@ def build_library(
 ) -> BuildReport:
     """Build configurations in parallel (parts first, then assembly) and rewrite index.csv."""
     configs = list(configs)
-    parts = list({c.part.id: c.part for c in configs}.values())
-    workers = workers or os.cpu_count() or 1
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        jobs = pool.map(ensure_part, parts, [settings] * len(parts), [cache_root] * len(parts))
-        done = list(tqdm(jobs, total=len(parts), desc="parts (steps 1-4)", disable=not progress))
-        meshes = {pid: m for pid, m, _ in done}
-        parts_built = sum(built for *_, built in done)
+    meshes, parts_built = build_parts(
+        (c.part for c in configs), settings, cache_root, workers, progress
+    )
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
         jobs = pool.map(
             write_configuration,
             configs,
@@ -223,13 +235,11 @@ def build_library(
             [out_dir] * len(configs),
             chunksize=8,
         )
-        built = list(
-            tqdm(jobs, total=len(configs), desc="configurations (steps 5-6)", disable=not progress)
-        )
+        desc = "configurations (steps 5-6)"
+        built = list(tqdm(jobs, total=len(configs), desc=desc, disable=not progress))
     index = write_index(out_dir)
-    return BuildReport(
-        parts_built, len(parts) - parts_built, sum(built), len(built) - sum(built), index
-    )
+    n_built = sum(built)
+    return BuildReport(parts_built, len(meshes) - parts_built, n_built, len(built) - n_built, index)
 
 
 def write_index(out_dir: Path) -> Path:

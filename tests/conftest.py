@@ -1,0 +1,52 @@
+"""Shared fixtures: the catalog, default workflow settings and a small built library."""
+
+from __future__ import annotations
+
+import pytest
+
+from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.catalog import CATEGORIES, Catalog
+from realikea.config import load_config, repo_path
+
+SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
+
+
+@pytest.fixture(scope="session")
+def catalog() -> Catalog:
+    return Catalog.load()
+
+
+@pytest.fixture(scope="session")
+def settings() -> WorkflowSettings:
+    return WorkflowSettings.from_config(load_config())
+
+
+@pytest.fixture(scope="session")
+def cache_root():
+    """The project's own content-addressed cache: shared with users, safe by construction."""
+    return repo_path(load_config().paths.cache)
+
+
+@pytest.fixture(scope="session")
+def sample_configs(catalog):
+    """The first part of each category on a drawer, both doors and the flap."""
+    parts = [catalog.parts_in(c)[0] for c in CATEGORIES]
+    return [
+        c for p in parts for b in SAMPLE_BASES for c in catalog.configurations(part=p.id, base=b)
+    ]
+
+
+@pytest.fixture(scope="session")
+def sample_library(tmp_path_factory, sample_configs, settings, cache_root):
+    """The sample built for both collision sources in high resistance."""
+    out = tmp_path_factory.mktemp("library")
+    report = build_library(
+        sample_configs,
+        settings,
+        Resistance("high", 10.0, 20.0),
+        ("coacd", "hull"),
+        cache_root,
+        out,
+        progress=False,
+    )
+    return out, report

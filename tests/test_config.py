@@ -1,0 +1,60 @@
+"""Hydra groups compose, and unknown values fail with the options named."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from realikea.assets.catalog import REPO_ROOT
+from realikea.cli import main
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+
+
+@pytest.mark.parametrize(
+    ("mode", "damping", "friction"), [("smooth", 2, 5), ("normal", 5, 10), ("high", 10, 20)]
+)
+def test_resistance_modes_match_the_paper(mode, damping, friction):
+    cfg = load_config([f"resistance={mode}"])
+    assert (cfg.resistance.damping, cfg.resistance.frictionloss) == (damping, friction)
+
+
+def test_asset_group_and_pinning():
+    cfg = load_config(["asset=knob", "asset.part=some_part", "asset.base=drawer_w60_h20"])
+    assert (cfg.asset.category, cfg.asset.part, cfg.asset.base) == (
+        "knob",
+        "some_part",
+        "drawer_w60_h20",
+    )
+    assert load_config(["collision=hull"]).collision.source == "hull"
+
+
+@pytest.mark.parametrize("override", ["resistance=extreme", "collision=mesh", "asset=chair"])
+def test_unknown_group_value_names_the_options(override):
+    with pytest.raises(RealIkeaError, match="Available options") as err:
+        load_config([override])
+    assert override.split("=")[1] in str(err.value)
+
+
+def test_unknown_key_is_an_error():
+    with pytest.raises(RealIkeaError, match="nonsense"):
+        load_config(["nonsense=1"])
+
+
+def test_cli_reports_bad_override_without_traceback(capsys):
+    assert main(["assets", "build", "--part", "x", "resistance=extreme"]) == 2
+    err = capsys.readouterr().err
+    assert "resistance/extreme" in err and "Traceback" not in err
+
+
+def test_train_py_composes_the_config():
+    out = subprocess.run(
+        [sys.executable, "train.py", "collision=hull", "resistance=high", "hydra.run.dir=/tmp/ri"],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=REPO_ROOT,
+    ).stdout
+    assert "source: hull" in out and "frictionloss: 20.0" in out
