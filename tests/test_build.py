@@ -107,6 +107,8 @@ def test_second_run_is_a_no_op(sample_library, sample_configs, settings, cache_r
 
 def test_changed_dimension_rebuilds_only_what_depends_on_it(catalog, settings, tmp_path):
     """One dimension changes: that part and its configurations rebuild, nothing else."""
+    quick = dataclasses.replace(settings.coacd, mcts_iterations=20, mcts_max_depth=2)
+    settings = dataclasses.replace(settings, coacd=quick)  # cache logic, not CoACD quality
     changed, other = catalog.parts_in("knob")[:2]
     configs = [
         next(catalog.configurations(part=p.id, base="drawer_w60_h20")) for p in (changed, other)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import multiprocessing
 import os
 from collections.abc import Iterable
 from concurrent.futures import ProcessPoolExecutor
@@ -25,9 +26,10 @@ from realikea.assets.workflow import (
     integration,
     segmentation,
 )
+from realikea.errors import RealIkeaError
 
-PART_STEPS_VERSION = "1"  # bump when steps 1-4 change what they write
-CONFIG_STEPS_VERSION = "1"  # bump when steps 5-6 change what they write
+PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
+CONFIG_STEPS_VERSION = "2"  # bump when steps 5-6 change what they write
 INDEX_COLUMNS = (
     "config_id",
     "part_id",
@@ -92,13 +94,16 @@ def part_key(part: Part, settings: WorkflowSettings) -> str:
 
 def write_part_meshes(part: Part, settings: WorkflowSettings, folder: Path) -> None:
     """Steps 1-4 for one part, writing meshes and a meta.json into `folder`."""
-    components = segmentation.formatted_components(part)  # step 1
-    solid = cleaning.cleaned_solid(components)  # step 2
-    clipped = clipping.clipped_for_collision(solid, settings.mount_clearance)  # step 3
-    sources = {  # step 4
-        "coacd": collision.coacd_pieces(clipped, settings.coacd),
-        "hull": [collision.convex_hull(clipped)],
-    }
+    try:
+        components = segmentation.formatted_components(part)  # step 1
+        solid = cleaning.cleaned_solid(components)  # step 2
+        clipped = clipping.clipped_for_collision(solid, settings.mount_clearance)  # step 3
+        sources = {  # step 4
+            "coacd": collision.coacd_pieces(clipped, settings.coacd),
+            "hull": [collision.convex_hull(clipped)],
+        }
+    except RealIkeaError as err:
+        raise RealIkeaError(f"part {part.id!r}: {err}") from err
     solid.export(folder / "visual.obj")
     pieces = {}
     for source, meshes in sources.items():
@@ -194,6 +199,13 @@ class BuildReport:
     index: Path
 
 
+def _pool(workers: int | None) -> ProcessPoolExecutor:
+    """Worker processes started fresh: CoACD's thread pool does not survive a fork."""
+    return ProcessPoolExecutor(
+        max_workers=workers or os.cpu_count() or 1, mp_context=multiprocessing.get_context("spawn")
+    )
+
+
 def build_parts(
     parts: Iterable[Part],
     settings: WorkflowSettings,
@@ -203,7 +215,7 @@ def build_parts(
 ) -> tuple[dict[str, PartMeshes], int]:
     """Steps 1-4 for many parts in parallel; returns their meshes by id and how many were built."""
     parts = list({p.id: p for p in parts}.values())
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+    with _pool(workers) as pool:
         jobs = pool.map(ensure_part, parts, [settings] * len(parts), [cache_root] * len(parts))
         done = list(tqdm(jobs, total=len(parts), desc="parts (steps 1-4)", disable=not progress))
     return {pid: meshes for pid, meshes, _ in done}, sum(built for *_, built in done)
@@ -224,7 +236,7 @@ def build_library(
     meshes, parts_built = build_parts(
         (c.part for c in configs), settings, cache_root, workers, progress
     )
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+    with _pool(workers) as pool:
         jobs = pool.map(
             write_configuration,
             configs,

@@ -42,12 +42,26 @@ def staging_dir(final: Path):
 
 
 def cached_entry(root: Path, key: str, build: Callable[[Path], None]) -> tuple[Path, bool]:
-    """Return (`root/key`, built) building the entry with `build(folder)` on a miss."""
+    """Return (`root/key`, built) building the entry with `build(folder)` on a miss.
+
+    Entries are content-addressed, so when two processes race the first rename wins and the
+    loser's identical copy is discarded.
+    """
     entry = root / key
     if entry.is_dir():
         return entry, False
-    with staging_dir(entry) as tmp:
+    root.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=root, prefix=f".{key}.", suffix=".tmp"))
+    try:
         build(tmp)
+        try:
+            os.rename(tmp, entry)
+        except OSError:
+            if not entry.is_dir():
+                raise
+            return entry, False
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return entry, True
 
 

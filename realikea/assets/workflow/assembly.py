@@ -27,10 +27,15 @@ PART_DENSITY = {  # kg/m^3 by friction class: zinc die-cast, plastic, wood, coat
     "wood": 700.0,
     "rubberized": 6600.0,
 }
-VISUAL_GROUP, COLLISION_GROUP = 2, 3
+SOLID_GROUP, VISUAL_GROUP, COLLISION_GROUP = 1, 2, 3  # seen and colliding; seen; colliding
 WOOD_RGBA = (0.82, 0.74, 0.62, 1.0)
 PART_RGBA = (0.55, 0.57, 0.6, 1.0)
 COLLISION_RGBA = (0.9, 0.3, 0.2, 0.5)
+# Joint dry friction: MuJoCo's friction loss is a soft constraint that lets a joint creep under
+# a load below its friction level; a stiff reference and high impedance keep that creep under
+# 0.2 mm/s at 75 % of the friction level (tests/test_physics.py), i.e. static friction.
+FRICTION_SOLREF = (0.01, 1.0)
+FRICTION_SOLIMP = (0.99, 0.999, 0.001)
 
 
 @dataclass(frozen=True)
@@ -46,6 +51,7 @@ class Geom:
     density: float = 0.0
     friction: float = 1.0
     rgba: tuple[float, ...] = WOOD_RGBA
+    group: int = COLLISION_GROUP  # for colliding geoms: SOLID_GROUP if it is also the visual
 
 
 @dataclass(frozen=True)
@@ -88,7 +94,9 @@ def carcass(base: Base) -> Body:
         "top": ((-d / 2, 0, h - t / 2), (d / 2, w - t, t / 2)),
         "back": ((-d + t / 2, 0, h / 2), (t / 2, w - t, h / 2 - t)),
     }
-    geoms = [Geom(f"carcass_{k}", pos, box=half) for k, (pos, half) in boxes.items()]
+    geoms = [
+        Geom(f"carcass_{k}", pos, box=half, group=SOLID_GROUP) for k, (pos, half) in boxes.items()
+    ]
     return Body("carcass", geoms)
 
 

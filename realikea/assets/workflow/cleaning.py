@@ -21,9 +21,9 @@ BORE_OVERLAP = 2e-4  # m the filling plug reaches past the bore bottom into soli
 def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
     """Convert a watertight trimesh into a manifold3d solid."""
     solid = m3.Manifold(
-        m3.Mesh(
-            vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
-            tri_verts=np.asarray(mesh.faces, dtype=np.uint32),
+        m3.Mesh64(
+            vert_properties=np.array(mesh.vertices, dtype=np.float64, order="C"),
+            tri_verts=np.array(mesh.faces, dtype=np.uint64, order="C"),
         )
     )
     if solid.status() != m3.Error.NoError:
@@ -32,9 +32,10 @@ def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
 
 
 def to_trimesh(solid: m3.Manifold) -> trimesh.Trimesh:
-    """Convert a manifold3d solid back to a trimesh."""
-    mesh = solid.to_mesh()
-    return trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts))
+    """Convert a manifold3d solid back to a trimesh, keeping its (manifold) vertex topology."""
+    mesh = solid.to_mesh64()
+    vertices, faces = np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts)
+    return trimesh.Trimesh(vertices, faces, process=False)
 
 
 def cleaned_solid(components: list[trimesh.Trimesh]) -> trimesh.Trimesh:

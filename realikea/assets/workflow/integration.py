@@ -8,7 +8,14 @@ from pathlib import Path
 import mujoco
 
 from realikea.assets.cache import atomic_write_text
-from realikea.assets.workflow.assembly import COLLISION_GROUP, VISUAL_GROUP, Assembly, Body, Geom
+from realikea.assets.workflow.assembly import (
+    FRICTION_SOLIMP,
+    FRICTION_SOLREF,
+    VISUAL_GROUP,
+    Assembly,
+    Body,
+    Geom,
+)
 from realikea.errors import RealIkeaError
 
 
@@ -47,6 +54,8 @@ def _body(parent: ET.Element, body: Body) -> None:
             range=_fmt(j.range),
             damping=f"{j.damping:g}",
             frictionloss=f"{j.frictionloss:g}",
+            solreffriction=_fmt(FRICTION_SOLREF),
+            solimpfriction=_fmt(FRICTION_SOLIMP),
         )
     for geom in body.geoms:
         _geom(node, geom)
@@ -59,7 +68,7 @@ def _geom(parent: ET.Element, g: Geom) -> None:
     else:
         attrs.update(type="mesh", mesh=g.mesh)
     if g.collides:
-        attrs.update(group=str(COLLISION_GROUP), friction=f"{g.friction:g} 0.005 0.0001")
+        attrs.update(group=str(g.group), friction=f"{g.friction:g} 0.005 0.0001")
     else:
         attrs.update(group=str(VISUAL_GROUP), contype="0", conaffinity="0")
     attrs["density"] = f"{g.density:g}"

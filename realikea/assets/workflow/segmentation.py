@@ -15,7 +15,6 @@ def formatted_components(part: Part) -> list[trimesh.Trimesh]:
     mesh = trimesh.Trimesh(
         vertices=np.asarray(mesh.vertices, dtype=np.float64), faces=mesh.faces, process=True
     )
-    mesh.update_faces(mesh.nondegenerate_faces())
     mesh.remove_unreferenced_vertices()
     if len(mesh.faces) == 0:
         raise RealIkeaError(f"part {part.id!r}: mesh has no faces after formatting")
