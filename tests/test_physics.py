@@ -10,7 +10,7 @@ import trimesh
 from realikea.assets.build import build_parts
 from realikea.assets.library import load_model, read_index
 
-# A Franka Hand fingertip: about 18 mm wide along the bar and 8 mm thick across the gap.
+# A Franka Hand fingertip: about 18 mm wide along the bar, 8 mm thick across the gap, 0.1 kg.
 PROBE_HALF = (0.009, 0.008, 0.004)  # x (along bar), y (push direction), z (gap depth)
 PROBE_FORCE = 5.0  # N pushing the probe down through the gap
 
@@ -64,12 +64,13 @@ def _probe_model(pieces, gap: float, top: float) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(f"""
 <mujoco>
   <option gravity="0 0 0" timestep="0.001"/>
+  <default><geom solref="0.004 1"/></default>
   <asset>{meshes}</asset>
   <worldbody>
     {geoms}
     <body name="probe" pos="0 {start} {gap / 2}">
       <joint name="push" type="slide" axis="0 -1 0" damping="5"/>
-      <geom type="box" size="{size}" density="1000"/>
+      <geom type="box" size="{size}" mass="0.1"/>
     </body>
   </worldbody>
 </mujoco>""")
