@@ -141,3 +141,16 @@ def test_resistance_change_reassembles_without_rebuilding_meshes(
     assert (report.parts_built, report.configs_built) == (0, 1)
     model = load_model(tmp_path / config.id / "model_hull.xml")
     assert np.allclose([model.dof_damping[0], model.dof_frictionloss[0]], [2.0, 5.0])
+
+
+def test_handle_site_sits_on_the_part(sample_library):
+    """The `handle` site lies just inside the part's top surface, in front of the front."""
+    out, _ = sample_library
+    for row in read_index(out):
+        model = load_model(out / row["mjcf_coacd"])
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        handle = data.site("handle").xpos
+        front = data.geom("front_visual")
+        outer_face = front.xpos[0] + model.geom("front_visual").size[0]
+        assert outer_face < handle[0] < outer_face + 0.05, row["config_id"]

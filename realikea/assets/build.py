@@ -12,6 +12,7 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import trimesh
 from omegaconf import DictConfig
 from tqdm import tqdm
 
@@ -29,7 +30,7 @@ from realikea.assets.workflow import (
 from realikea.errors import RealIkeaError
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
-CONFIG_STEPS_VERSION = "2"  # bump when steps 5-6 change what they write
+CONFIG_STEPS_VERSION = "3"  # bump when steps 5-6 change what they write
 INDEX_COLUMNS = (
     "config_id",
     "part_id",
@@ -173,6 +174,7 @@ def write_configuration(
         "category": config.part.category,
         "joint_type": config.base.joint,
     }
+    handle = assembly.grasp_point(trimesh.load_mesh(meshes.visual))
     with staging_dir(folder) as tmp:
         link_or_copy(meshes.visual, tmp / "meshes" / "visual.obj")
         for source in sources:
@@ -181,7 +183,7 @@ def write_configuration(
                 link_or_copy(piece, tmp / "meshes" / piece.name)
                 names[f"part_{source}_{i:03d}"] = f"meshes/{piece.name}"
             unit = assembly.assemble(  # step 5
-                config.part, config.base, names, "meshes/visual.obj",
+                config.part, config.base, names, "meshes/visual.obj", handle,
                 resistance.damping, resistance.frictionloss, settings.front_clearance,
             )  # fmt: skip
             integration.write_mjcf(unit, tmp / f"model_{source}.xml")  # step 6

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import trimesh
 from scipy.spatial.transform import Rotation
 
 from realikea.assets.catalog import Base, Part
@@ -18,6 +19,7 @@ from realikea.assets.workflow.clipping import inset_half_extents
 
 PANEL = 0.018  # m carcass board thickness
 TRAY_BOARD = 0.012  # m drawer tray board thickness
+GRASP_DEPTH = 0.006  # m below the part's top surface where the handle site sits
 FRONT_GAP = 0.001  # m between the closed front's back face and the carcass edge
 BOARD_DENSITY = 650.0  # kg/m^3 particle board
 PART_DENSITY = {  # kg/m^3 by friction class: zinc die-cast, plastic, wood, coated metal
@@ -68,11 +70,21 @@ class Joint:
 
 
 @dataclass(frozen=True)
+class Site:
+    """A named point (and frame) on a body, e.g. the handle's grasp point."""
+
+    name: str
+    pos: tuple[float, ...]
+    quat: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
 class Body:
     name: str
     geoms: list[Geom]
     joint: Joint | None = None
     pos: tuple[float, ...] = (0.0, 0.0, 0.0)
+    sites: list[Site] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -158,11 +170,20 @@ def drawer_tray(base: Base) -> list[Geom]:
     ]
 
 
+def grasp_point(visual: trimesh.Trimesh) -> np.ndarray:
+    """The handle point in the part frame: just below the top surface above the mount point."""
+    top = visual.bounds[1][2] + 0.01
+    hits, _, _ = visual.ray.intersects_location([[0.0, 0.0, top]], [[0.0, 0.0, -1.0]])
+    z_top = float(hits[:, 2].max()) if len(hits) else visual.bounds[1][2]
+    return np.array([0.0, 0.0, z_top - min(GRASP_DEPTH, z_top / 2)])
+
+
 def assemble(
     part: Part,
     base: Base,
     collision_meshes: dict[str, str],
     visual_mesh: str,
+    handle: np.ndarray,
     damping: float,
     frictionloss: float,
     front_clearance: float,
@@ -201,6 +222,9 @@ def assemble(
         ),
     ]
     trays = drawer_tray(base) if base.kind == "drawer" else []
-    moving = Body("front", front + trays + part_geoms, front_joint(base, damping, frictionloss))
+    rot = Rotation.from_quat(np.roll(quat, -1))
+    sites = [Site("handle", tuple(pos + rot.apply(handle)), tuple(quat))]
+    joint = front_joint(base, damping, frictionloss)
+    moving = Body("front", front + trays + part_geoms, joint, sites=sites)
     meshes = {"part_visual": visual_mesh, **collision_meshes}
     return Assembly(f"{part.id}__{base.id}", [carcass(base), moving], meshes)

@@ -59,6 +59,8 @@ def _body(parent: ET.Element, body: Body) -> None:
         )
     for geom in body.geoms:
         _geom(node, geom)
+    for site in body.sites:
+        ET.SubElement(node, "site", name=site.name, pos=_fmt(site.pos), quat=_fmt(site.quat))
 
 
 def _geom(parent: ET.Element, g: Geom) -> None:
