@@ -42,6 +42,18 @@ INDEX_COLUMNS = (
 )
 
 
+def config_number(node: DictConfig, key: str, path: str, minimum: float | None = None) -> float:
+    """A numeric config value, or an error naming the key and the bad value."""
+    value = node.get(key)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise RealIkeaError(f"config value {path}={value!r} is not a number") from None
+    if minimum is not None and number < minimum:
+        raise RealIkeaError(f"config value {path}={value!r} must be >= {minimum:g}")
+    return number
+
+
 @dataclass(frozen=True)
 class WorkflowSettings:
     """The knobs of the workflow that change derived files (part of every cache key)."""
@@ -52,8 +64,21 @@ class WorkflowSettings:
 
     @classmethod
     def from_config(cls, cfg: DictConfig) -> WorkflowSettings:
-        wf = cfg.workflow
-        return cls(collision.CoacdSettings(**wf.coacd), wf.mount_clearance, wf.front_clearance)
+        wf, c = cfg.workflow, cfg.workflow.coacd
+        if c.preprocess not in ("auto", "on", "off"):
+            raise RealIkeaError(f"workflow.coacd.preprocess={c.preprocess!r}: use auto, on or off")
+        integers = ("preprocess_resolution", "resolution", "max_convex_hull")
+        integers += ("mcts_iterations", "mcts_max_depth", "seed")
+        coacd = collision.CoacdSettings(
+            threshold=config_number(c, "threshold", "workflow.coacd.threshold", minimum=0.0),
+            preprocess=c.preprocess,
+            **{k: int(config_number(c, k, f"workflow.coacd.{k}")) for k in integers},
+        )
+        return cls(
+            coacd,
+            config_number(wf, "mount_clearance", "workflow.mount_clearance", minimum=0.0),
+            config_number(wf, "front_clearance", "workflow.front_clearance", minimum=0.0),
+        )
 
 
 @dataclass(frozen=True)
@@ -63,6 +88,15 @@ class Resistance:
     name: str
     damping: float
     frictionloss: float
+
+    @classmethod
+    def from_config(cls, cfg: DictConfig) -> Resistance:
+        r = cfg.resistance
+        return cls(
+            str(r.name),
+            config_number(r, "damping", "resistance.damping", minimum=0.0),
+            config_number(r, "frictionloss", "resistance.frictionloss", minimum=0.0),
+        )
 
 
 @dataclass(frozen=True)

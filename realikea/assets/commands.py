@@ -63,7 +63,7 @@ def run_build(args: argparse.Namespace) -> int:
     report = build_library(
         configs,
         WorkflowSettings.from_config(cfg),
-        Resistance(**cfg.resistance),
+        Resistance.from_config(cfg),
         sources,
         repo_path(cfg.paths.cache),
         out,

@@ -87,7 +87,7 @@ def render_gallery(cfg: DictConfig, out: Path, n_configs: int = 12) -> Path:
     cache, library = repo_path(cfg.paths.cache), repo_path(cfg.paths.library)
     sample = sample_configurations(catalog, n_configs)
     per_part = [next(catalog.configurations(part=p)) for p in catalog.parts]
-    resistance = Resistance(**cfg.resistance)
+    resistance = Resistance.from_config(cfg)
     build_library(sample + per_part, settings, resistance, ("coacd", "hull"), cache, library)
     tiles = []
     for config in tqdm(per_part, desc="render parts"):
