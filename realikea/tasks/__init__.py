@@ -1,0 +1,1 @@
+"""The open-articulation task: rewards, observations, terminations, randomization, outcome."""
