@@ -8,6 +8,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import trimesh
 from omegaconf import DictConfig
 from PIL import Image, ImageDraw
 from tqdm import tqdm
@@ -20,14 +21,14 @@ TILE = 200
 COLUMNS = 10
 
 
-def _part_xml(visual: Path) -> str:
+def _part_xml(visual: Path, floor: float) -> str:
     return f"""<mujoco>
   <visual><headlight ambient="0.45 0.45 0.45" diffuse="0.5 0.5 0.5"/></visual>
   <asset><mesh name="part" file="{visual}"/></asset>
   <worldbody>
     <light pos="0.3 -0.3 0.6" dir="-0.4 0.4 -1"/>
     <geom type="mesh" mesh="part" rgba="0.62 0.64 0.68 1"/>
-    <geom type="box" size="0.2 0.2 0.001" pos="0 0 -0.001" rgba="0.85 0.78 0.66 1"/>
+    <geom type="box" size="{floor} {floor} 0.001" pos="0 0 -0.001" rgba="0.85 0.78 0.66 1"/>
   </worldbody>
 </mujoco>"""
 
@@ -48,11 +49,12 @@ def _render(model: mujoco.MjModel, data: mujoco.MjData, lookat, distance: float,
 
 def part_tile(visual: Path) -> np.ndarray:
     """One part's visual mesh on a patch of front, seen from above and to the side."""
-    model = mujoco.MjModel.from_xml_string(_part_xml(visual.resolve()))
+    vertices = trimesh.load_mesh(visual).vertices
+    extent = float(np.max(vertices.max(0) - vertices.min(0)))
+    model = mujoco.MjModel.from_xml_string(_part_xml(visual.resolve(), 2 * extent))
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    extent = float(np.max(model.mesh_vert.max(0) - model.mesh_vert.min(0)))
-    centre = (model.mesh_vert.max(0) + model.mesh_vert.min(0)) / 2
+    centre = (vertices.max(0) + vertices.min(0)) / 2
     return _render(model, data, centre, 1.8 * extent + 0.03)
 
 
@@ -76,7 +78,9 @@ def sample_configurations(catalog: Catalog, n: int) -> list[Configuration]:
 
 def _label(tile: np.ndarray, text: str) -> Image.Image:
     image = Image.fromarray(tile)
-    ImageDraw.Draw(image).text((4, TILE - 14), text[:34], fill=(0, 0, 0))
+    draw = ImageDraw.Draw(image)
+    draw.rectangle((0, TILE - 16, TILE, TILE), fill=(255, 255, 255))
+    draw.text((4, TILE - 14), text[:34], fill=(0, 0, 0))
     return image
 
 
