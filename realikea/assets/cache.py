@@ -17,6 +17,7 @@ def atomic_write_text(path: Path, text: str) -> None:
     try:
         with os.fdopen(fd, "w") as f:
             f.write(text)
+        os.chmod(tmp, 0o644)  # mkstemp creates owner-only files
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -28,6 +29,7 @@ def staging_dir(final: Path):
     """Yield an empty temporary folder that replaces `final` only if the block succeeds."""
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(dir=final.parent, prefix=f".{final.name}.", suffix=".tmp"))
+    os.chmod(tmp, 0o755)  # mkdtemp creates owner-only folders
     try:
         yield tmp
         if final.exists():
@@ -52,6 +54,7 @@ def cached_entry(root: Path, key: str, build: Callable[[Path], None]) -> tuple[P
         return entry, False
     root.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(dir=root, prefix=f".{key}.", suffix=".tmp"))
+    os.chmod(tmp, 0o755)
     try:
         build(tmp)
         try:

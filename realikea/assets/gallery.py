@@ -106,8 +106,12 @@ def render_gallery(cfg: DictConfig, out: Path, n_configs: int = 12) -> Path:
         sheet.paste(tile, ((i % COLUMNS) * TILE, (i // COLUMNS) * TILE))
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=out.parent, suffix=".png")
+    fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".png")
     os.close(fd)
-    sheet.save(tmp)
-    os.replace(tmp, out)
+    try:
+        sheet.save(tmp)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, out)
+    finally:
+        Path(tmp).unlink(missing_ok=True)
     return out
