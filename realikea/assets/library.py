@@ -34,3 +34,35 @@ def load_model(
     if frictionloss is not None:
         model.dof_frictionloss[dof] = frictionloss
     return model
+
+
+def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
+    """MJCFs of `n` configurations drawn from the `asset` group (built if missing).
+
+    Configurations are drawn without replacement (cycling when n exceeds the category) in a
+    seeded order, for the collision source of `cfg.collision`.
+    """
+    import numpy as np
+
+    from realikea.assets.build import Resistance, WorkflowSettings, build_library
+    from realikea.assets.catalog import Catalog
+    from realikea.config import repo_path
+
+    catalog = Catalog.load()
+    pool = list(catalog.configurations(cfg.asset.category, cfg.asset.part, cfg.asset.base))
+    order = np.random.default_rng(seed).permutation(len(pool))
+    chosen = [pool[order[i % len(pool)]] for i in range(n)]
+    source = str(cfg.collision.source)
+    library = repo_path(cfg.paths.library)
+    unique = list({c.id: c for c in chosen}.values())
+    missing = [c for c in unique if not (library / c.id / f"model_{source}.xml").is_file()]
+    if missing:
+        build_library(
+            missing,
+            WorkflowSettings.from_config(cfg),
+            Resistance.from_config(cfg),
+            ("coacd", "hull"),
+            repo_path(cfg.paths.cache),
+            library,
+        )
+    return [library / c.id / f"model_{source}.xml" for c in chosen]

@@ -1,0 +1,210 @@
+"""One scene of the opening task: reset, the 5-D action through IK, physics, reward, termination.
+
+A task knows exactly one scene (the robot in front of one configuration); vectorizing many of
+them is the env pool's business (realikea/pool).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from omegaconf import DictConfig
+
+from realikea.errors import RealIkeaError
+from realikea.sim.ik import IKController, tcp_pitch
+from realikea.sim.robot import GripperModel
+from realikea.sim.scene import (
+    ARM_ACTUATORS,
+    ARM_JOINTS,
+    CABINET_ROOT,
+    FINGER_JOINTS,
+    FRONT_JOINT,
+    GRIPPER_ACTUATOR,
+    HANDLE_SITE,
+    TCP_SITE,
+    build_scene,
+    reset_home,
+)
+from realikea.tasks import observations
+from realikea.tasks.outcome import outcome
+from realikea.tasks.randomization import PosePerturbation, Randomization
+from realikea.tasks.rewards import RewardParams, jerk_penalty, next_stage, staged_reward
+
+ACTION_SIZE = 5
+
+
+@dataclass
+class EpisodeState:
+    """What the task remembers within an episode."""
+
+    stage: int = 1
+    steps: int = 0
+    prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
+    prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
+    ik_failures: int = 0
+    stagnant: int = 0
+    episode_return: float = 0.0
+
+
+@dataclass(frozen=True)
+class StepResult:
+    obs: np.ndarray
+    reward: float
+    terminated: bool
+    truncated: bool
+    info: dict
+
+
+class OpenTask:
+    """The robot opening one configuration's front (drawer, door or flap)."""
+
+    def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
+        task = cfg.task
+        self.cfg = cfg
+        self.model = build_scene(Path(config_mjcf), cfg)
+        self.data = mujoco.MjData(self.model)
+        self.ik = IKController.from_config(cfg)
+        self.gripper = GripperModel.from_config(cfg.gripper)
+        self.params = RewardParams(**task.reward)
+        self.randomization = Randomization.from_config(cfg.dr)
+        self.rng = np.random.default_rng(seed)
+        self.decimation = int(task.decimation)
+        self.horizon = round(
+            float(task.episode_seconds) / (self.decimation * self.model.opt.timestep)
+        )
+        self.pitch_scale = float(task.action.pitch_scale)
+        self.translation_scale = float(task.action.translation_scale)
+        self.o1, self.o2 = (np.asarray(task.targets[k], float) for k in ("o1", "o2"))
+        self.iteration = 0
+        m = self.model
+        self._arm_q = np.array([m.jnt_qposadr[m.joint(j).id] for j in ARM_JOINTS])
+        self._finger_q = np.array([m.jnt_qposadr[m.joint(j).id] for j in FINGER_JOINTS])
+        self._arm_act = np.array([m.actuator(a).id for a in ARM_ACTUATORS])
+        self._grip_act = m.actuator(GRIPPER_ACTUATOR).id
+        front = m.joint(FRONT_JOINT)
+        self.joint_type = "slide" if front.type[0] == mujoco.mjtJoint.mjJNT_SLIDE else "hinge"
+        self._front_q, self._front_v = m.jnt_qposadr[front.id], m.jnt_dofadr[front.id]
+        self._tcp, self._handle = m.site(TCP_SITE).id, m.site(HANDLE_SITE).id
+        self._base = m.body("link0").id
+        parts = [i for i in range(m.ngeom) if m.geom(i).name.startswith("cabinet/part_")]
+        self.perturb = PosePerturbation(m, parts, self._handle, m.body(CABINET_ROOT).id)
+        self.state = EpisodeState()
+        self._nominal_handle = np.zeros(3)
+
+    # --- reading the scene ----------------------------------------------------------------
+    @property
+    def opening(self) -> float:
+        return float(self.data.qpos[self._front_q])
+
+    @property
+    def aperture(self) -> float:
+        return float(np.sum(self.data.qpos[self._finger_q]) / (2 * self.gripper.stroke))
+
+    def _targets(self) -> tuple[float, float]:
+        tcp, handle = self.data.site_xpos[self._tcp], self.data.site_xpos[self._handle]
+        return float(np.linalg.norm(tcp - handle - self.o1)), float(
+            np.linalg.norm(tcp - handle - self.o2)
+        )
+
+    def observe(self) -> np.ndarray:
+        d = self.data
+        return observations.observation(
+            d.site_xpos[self._tcp],
+            d.site_xmat[self._tcp].reshape(3, 3),
+            d.site_xpos[self._handle],
+            d.xpos[self._base],
+            self.opening,
+            float(d.qvel[self._front_v]),
+            self.aperture,
+            self.aperture < self.params.close_below,
+            self.state.prev_action,
+            self.state.stage,
+        )
+
+    # --- episode --------------------------------------------------------------------------
+    def reset(self) -> np.ndarray:
+        """Start an episode (poses perturbed when randomization is active)."""
+        active = self.randomization.active(self.iteration)
+        self.perturb.apply(self.rng if active else None, self.randomization)
+        reset_home(self.model, self.data, self.cfg)
+        self.state = EpisodeState()
+        self._nominal_handle = self.data.site_xpos[self._handle].copy()
+        d1, d2 = self._targets()
+        self.state.stage = int(next_stage(1, d1, d2, self.aperture, self.params))
+        return self.observe()
+
+    def apply_action(self, action) -> bool:
+        """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""
+        action = np.asarray(action, dtype=np.float64)
+        if action.shape != (ACTION_SIZE,) or not np.all(np.isfinite(action)):
+            raise RealIkeaError(f"action must be 5 finite numbers, got {action!r}")
+        a = np.clip(action, -1.0, 1.0)
+        d = self.data
+        ws = self.cfg.task.workspace
+        tcp = d.site_xpos[self._tcp]
+        target = tcp + self.translation_scale * a[1:4]
+        target = np.clip(
+            target,
+            self._nominal_handle + np.asarray(ws.below),
+            self._nominal_handle + np.asarray(ws.above),
+        )
+        pitch = tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3)) + self.pitch_scale * a[0]
+        pitch = float(np.clip(pitch, *ws.pitch))
+        result = self.ik.solve(d.qpos[self._arm_q], target, pitch)
+        d.ctrl[self._arm_act] = result.q
+        d.ctrl[self._grip_act] = self.gripper.ctrl(a[4])
+        self._last_action, self._tcp_before = a, tcp.copy()
+        return result.ok
+
+    def simulate(self) -> None:
+        """Advance the physics by one control period."""
+        mujoco.mj_step(self.model, self.data, nstep=self.decimation)
+
+    def diverged(self) -> bool:
+        """NaN state or MuJoCo's own instability warning."""
+        bad = self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0
+        return bool(bad or not np.all(np.isfinite(self.data.qpos)))
+
+    def evaluate(self, ik_ok: bool) -> StepResult:
+        """Reward, terminations and info after the physics of a control step."""
+        s, p, a = self.state, self.params, self._last_action
+        s.steps += 1
+        diverged = self.diverged()
+        d1, d2 = self._targets()
+        s.stage = int(next_stage(s.stage, d1, d2, self.aperture, p))
+        reward = float(staged_reward(s.stage, d1, d2, self.aperture, self.opening, p))
+        reward += float(jerk_penalty(a, s.prev_action, s.prev_prev_action, p.w_jerk))
+        reward -= 0.0 if ik_ok else p.ik_cost
+        s.ik_failures = 0 if ik_ok else s.ik_failures + 1
+        term = self.cfg.task.terminations
+        moved = float(np.linalg.norm(self.data.site_xpos[self._tcp] - self._tcp_before))
+        commanded = float(np.linalg.norm(a[1:4])) > term.stagnation_command
+        s.stagnant = s.stagnant + 1 if commanded and moved < term.stagnation_motion else 0
+        s.prev_prev_action, s.prev_action = s.prev_action, a
+        if diverged:
+            reward = 0.0
+        s.episode_return += reward
+        reasons = {
+            "ik_infeasible": s.ik_failures >= term.ik_failure_steps,
+            "stagnation": s.stagnant >= term.stagnation_steps,
+            "diverged": diverged,
+        }
+        terminated = any(reasons.values())
+        truncated = not terminated and s.steps >= self.horizon
+        info = {"opening": self.opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
+        if terminated or truncated:
+            info["outcome"] = str(outcome(self.opening, self.joint_type, self.cfg.task.outcome))
+            info["episode_return"] = s.episode_return
+            info["episode_steps"] = s.steps
+            info["termination"] = next((k for k, v in reasons.items() if v), "timeout")
+        obs = self.observe() if not diverged else np.zeros(observations.SIZE)
+        return StepResult(obs, reward, terminated, truncated, info)
+
+    def step(self, action) -> StepResult:
+        """apply_action, simulate, evaluate: one control step."""
+        ok = self.apply_action(action)
+        self.simulate()
+        return self.evaluate(ok)
