@@ -54,15 +54,12 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     chosen = [pool[order[i % len(pool)]] for i in range(n)]
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
-    unique = list({c.id: c for c in chosen}.values())
-    missing = [c for c in unique if not (library / c.id / f"model_{source}.xml").is_file()]
-    if missing:
-        build_library(
-            missing,
-            WorkflowSettings.from_config(cfg),
-            Resistance.from_config(cfg),
-            ("coacd", "hull"),
-            repo_path(cfg.paths.cache),
-            library,
-        )
+    build_library(  # a no-op for configurations that are already current
+        list({c.id: c for c in chosen}.values()),
+        WorkflowSettings.from_config(cfg),
+        Resistance.from_config(cfg),
+        ("coacd", "hull"),
+        repo_path(cfg.paths.cache),
+        library,
+    )
     return [library / c.id / f"model_{source}.xml" for c in chosen]
