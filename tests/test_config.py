@@ -51,7 +51,7 @@ def test_cli_reports_bad_override_without_traceback(capsys):
 
 def test_train_py_composes_the_config():
     out = subprocess.run(
-        [sys.executable, "train.py", "collision=hull", "resistance=high", "hydra.run.dir=/tmp/ri"],
+        [sys.executable, "train.py", "collision=hull", "resistance=high", "--cfg", "job"],
         capture_output=True,
         text=True,
         check=True,

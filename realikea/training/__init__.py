@@ -1,0 +1,1 @@
+"""Training: rsl-rl PPO on the env pool, configured by Hydra."""

@@ -1,0 +1,94 @@
+"""PPO training of the opening task with rsl-rl's OnPolicyRunner, from a composed Hydra config."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from rsl_rl.runners import OnPolicyRunner
+
+from realikea.assets.library import training_configurations
+from realikea.errors import RealIkeaError
+from realikea.pool.env_pool import EnvPool
+from realikea.pool.rsl_rl_env import RslRlVecEnv
+from realikea.tasks import observations
+
+LAYOUT_FILE = "observation_layout.json"
+
+
+def runner_config(cfg: DictConfig) -> dict:
+    """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`."""
+    agent = cfg.agent
+    distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
+    model = {"class_name": "MLPModel", "activation": str(agent.activation)}
+    return {
+        "num_steps_per_env": int(agent.num_steps_per_env),
+        "save_interval": int(agent.save_interval),
+        "obs_groups": {"actor": ["policy"], "critic": ["critic"]},
+        "algorithm": {"class_name": "PPO", **OmegaConf.to_container(agent.algorithm)},
+        "actor": {
+            **model,
+            "hidden_dims": list(agent.actor_hidden_dims),
+            "obs_normalization": bool(agent.empirical_normalization),
+            "distribution_cfg": distribution,
+        },
+        "critic": {
+            **model,
+            "hidden_dims": list(agent.critic_hidden_dims),
+            "obs_normalization": bool(agent.empirical_normalization),
+        },
+        "logger": {
+            "class_name": "realikea.training.log_writer:RealIkeaLogWriter",
+            "backend": str(cfg.logger.backend),
+            **({"project_name": str(cfg.logger.project)} if "project" in cfg.logger else {}),
+        },
+        "check_for_nan": True,
+    }
+
+
+def check_layout(checkpoint: Path) -> None:
+    """Refuse a checkpoint trained on another observation layout."""
+    layout_file = Path(checkpoint).parent / LAYOUT_FILE
+    if not layout_file.is_file():
+        raise RealIkeaError(f"{checkpoint}: no {LAYOUT_FILE} beside it; not a Real-IKEA run")
+    stored = [tuple(item) for item in json.loads(layout_file.read_text())]
+    if stored != list(observations.LAYOUT):
+        raise RealIkeaError(
+            f"{checkpoint}: trained on observation layout {stored}, this code uses "
+            f"{list(observations.LAYOUT)}"
+        )
+
+
+def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
+    """Load weights and optimizer state with clear errors for missing or corrupt files."""
+    path = Path(path)
+    if not path.is_file():
+        raise RealIkeaError(f"checkpoint not found: {path}")
+    check_layout(path)
+    try:
+        runner.load(str(path))
+    except Exception as err:  # torch raises many types for truncated or foreign files
+        raise RealIkeaError(f"{path}: cannot be loaded as an rsl-rl checkpoint ({err})") from err
+
+
+def train(cfg: DictConfig, run_dir: Path) -> Path:
+    """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
+    run_dir = Path(run_dir)
+    torch.manual_seed(int(cfg.env.seed))
+    np.random.seed(int(cfg.env.seed))
+    mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
+    (run_dir / LAYOUT_FILE).write_text(json.dumps(observations.LAYOUT))
+    pool = EnvPool(cfg, mjcfs, num_workers=int(cfg.env.num_workers), seed=int(cfg.env.seed))
+    try:
+        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env))
+        runner = OnPolicyRunner(env, runner_config(cfg), log_dir=str(run_dir), device=cfg.train.device)
+        if cfg.train.resume:
+            load_checkpoint(runner, Path(cfg.train.resume))
+            env.set_iteration(runner.current_learning_iteration)
+        runner.learn(int(cfg.agent.max_iterations))
+    finally:
+        pool.close()
+    return run_dir / f"model_{runner.current_learning_iteration}.pt"
