@@ -13,13 +13,12 @@ exact formulas, whose own error is far below these tolerances.
 from __future__ import annotations
 
 import json
-import sys
-import types
 
 import numpy as np
 import pytest
 import trimesh
 
+from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.fidelity.meshes import load_collision, load_pair, load_visual
 from realikea.fidelity.metric import collision_shell, surface_deviation
@@ -327,26 +326,9 @@ def test_bad_visual_input_is_named(files, tmp_path):
 # --- command line -------------------------------------------------------------------------------
 
 
-@pytest.fixture
-def cli_main(monkeypatch):
-    """`realikea.cli.main`, with a stand-in for the assets group if that one does not import."""
-    import realikea.assets
-
-    try:
-        import realikea.assets.commands  # noqa: F401
-    except Exception:  # another group's work in progress must not fail the fidelity tests
-        stub = types.ModuleType("realikea.assets.commands")
-        stub.register = lambda parser: parser.add_subparsers(dest="command")
-        monkeypatch.setitem(sys.modules, "realikea.assets.commands", stub)
-        monkeypatch.setattr(realikea.assets, "commands", stub, raising=False)
-    from realikea.cli import main
-
-    return main
-
-
-def test_cli_measure_json(files, cli_main, capsys):
+def test_cli_measure_json(files, capsys):
     argv = ["fidelity", "measure", str(files["visual"]), str(files["collision"])]
-    assert cli_main([*argv, "--samples", "20000", "--seed", "4", "--json"]) == 0
+    assert main([*argv, "--samples", "20000", "--seed", "4", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)  # exactly one JSON object
     assert set(out) == {"q_to_p", "p_to_q"}
     # the first piece sticks out 1 mm above the visual box's top over 6 x 4 cm: max 1 mm
@@ -354,13 +336,13 @@ def test_cli_measure_json(files, cli_main, capsys):
     # and the visual top under it is 1 mm from the collision shell (the inner faces are gone)
     assert out["p_to_q"]["max"] == pytest.approx(0.001, abs=1e-9)
     assert 0 < out["q_to_p"]["mean"] < out["q_to_p"]["max"]
-    assert cli_main([*argv, "--samples", "2000"]) == 0
+    assert main([*argv, "--samples", "2000"]) == 0
     table = capsys.readouterr().out
     assert "E(Q->P)" in table and "mm" in table and "2 convex pieces" in table
 
 
-def test_cli_error_is_one_line_exit_2(files, cli_main, capsys):
-    code = cli_main(["fidelity", "measure", str(files["visual"]), str(files["collision_mm"])])
+def test_cli_error_is_one_line_exit_2(files, capsys):
+    code = main(["fidelity", "measure", str(files["visual"]), str(files["collision_mm"])])
     assert code == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("realikea: error:") and "\n" not in err

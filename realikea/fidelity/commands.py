@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
+import sys
+from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.fidelity.meshes import load_pair
@@ -41,6 +44,39 @@ def register(parser: argparse.ArgumentParser) -> None:
     )
     measure.set_defaults(run=run_measure)
 
+    report = commands.add_parser(
+        "report",
+        help="CoACD against the convex hull over the whole library: CSV, summary, plots",
+        description=(
+            "Measure every part of the library with both collision sources (building missing "
+            "collision meshes first, reusing the cache) and write parts.csv, summary.md, "
+            "distribution.png, heatmaps_<category>.png and mesh_stats.png."
+        ),
+    )
+    report.add_argument(
+        "--out", type=Path, help="output folder (default: experiments/fidelity in the repository)"
+    )
+    report.add_argument(
+        "--samples",
+        type=int,
+        default=DEFAULT_SAMPLES,
+        help="points per shell (default %(default)s)",
+    )
+    report.add_argument("--seed", type=int, default=0, help="sampling seed (default %(default)s)")
+    report.add_argument(
+        "--parts-per-category",
+        type=int,
+        default=2,
+        help="parts per category shown in the heat maps (default %(default)s)",
+    )
+    report.add_argument("--workers", type=int, help="processes (default: all cores)")
+    # internal: restrict the report to some parts (tests, quick looks)
+    report.add_argument("--part", action="append", dest="parts", help=argparse.SUPPRESS)
+    report.add_argument(
+        "overrides", nargs="*", help="Hydra overrides, e.g. asset=two_point workflow.coacd.seed=1"
+    )
+    report.set_defaults(run=run_report)
+
 
 def run_measure(args: argparse.Namespace) -> int:
     """Measure one visual mesh against its collision pieces and print the result."""
@@ -77,3 +113,40 @@ def format_table(
             f"{dev.p90 * MM:>9.3f}{dev.max * MM:>9.3f}"
         )
     return "\n".join(lines)
+
+
+def report_command(args: argparse.Namespace) -> str:
+    """The command line that reproduces a report, with every option spelled out."""
+    words = ["realikea", "fidelity", "report"]
+    if args.out is not None:
+        words += ["--out", str(args.out)]
+    words += ["--samples", str(args.samples), "--seed", str(args.seed)]
+    words += ["--parts-per-category", str(args.parts_per_category)]
+    for part in args.parts or ():
+        words += ["--part", part]
+    words += list(args.overrides)
+    return shlex.join(words)
+
+
+def run_report(args: argparse.Namespace) -> int:
+    """Write the library-wide fidelity report and print where it went."""
+    from realikea.config import load_config
+    from realikea.fidelity.report import run_report as write_report
+
+    result = write_report(
+        load_config(args.overrides),
+        out=args.out,
+        samples=args.samples,
+        seed=args.seed,
+        parts_per_category=args.parts_per_category,
+        parts=args.parts,
+        workers=args.workers,
+        command=report_command(args),
+    )
+    print(result.headline)
+    print(f"{len(result.rows)} parts in {result.seconds:.1f} s; wrote to {result.out}:")
+    for path in result.files:
+        print(f"  {path.name}")
+    for part_id, error in result.failed.items():
+        print(f"realikea: warning: part {part_id} not measured: {error}", file=sys.stderr)
+    return 1 if result.failed else 0
