@@ -1,0 +1,187 @@
+"""The task scene: the robot in front of one built configuration, on a floor, with lights.
+
+World frame: the floor is z = 0; x = 0 is the cabinet's front plane, +x points out of the front
+towards the robot, +y to the viewer's right (the configuration's own frame, lifted onto its
+plinth). The robot stands on the floor facing the cabinet (-x); the cabinet stands on a plinth whose
+height depends on the base kind, so every handle sits 0.55-0.85 m above the robot's base, where
+the Panda holds a level approach with fingers vertical through the whole opening (see
+realikea/sim/README.md for the measurements behind the layout). The configuration is attached
+with the prefix `cabinet/`; which collision source it uses is only which MJCF is passed.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from omegaconf import DictConfig
+
+from realikea.errors import RealIkeaError
+from realikea.sim.ik import yaw_quat
+from realikea.sim.robot import (
+    ARM_ACTUATORS,
+    ARM_JOINTS,
+    FINGER_JOINTS,
+    GRIPPER_ACTUATOR,
+    PAD_GEOMS,
+    TCP_SITE,
+    GripperModel,
+    robot_xml,
+)
+
+PREFIX = "cabinet/"
+FRONT_JOINT = PREFIX + "front_joint"
+HANDLE_SITE = PREFIX + "handle"
+FRONT_BODY = PREFIX + "front"
+CABINET_ROOT = PREFIX + "unit"
+__all__ = [
+    "ARM_ACTUATORS",
+    "ARM_JOINTS",
+    "CABINET_ROOT",
+    "FINGER_JOINTS",
+    "FRONT_BODY",
+    "FRONT_JOINT",
+    "GRIPPER_ACTUATOR",
+    "HANDLE_SITE",
+    "PAD_GEOMS",
+    "TCP_SITE",
+    "build_scene",
+    "config_mjcf",
+    "reset_home",
+]
+
+_CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
+_INTEGRATORS = {
+    "euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+}
+
+
+def config_mjcf(library: Path, config_id: str, source: str) -> Path:
+    """The MJCF of one built configuration for a collision source (`coacd` or `hull`)."""
+    path = Path(library) / config_id / f"model_{source}.xml"
+    if not path.is_file():
+        raise RealIkeaError(f"no {source} MJCF for {config_id} in {library}; build it first")
+    return path
+
+
+def _look_at(pos, target) -> np.ndarray:
+    """Quaternion of a camera at `pos` looking at `target` with the world z axis up."""
+    z = np.asarray(pos, float) - np.asarray(target, float)
+    z /= np.linalg.norm(z)
+    x = np.cross([0.0, 0.0, 1.0], z)
+    x /= np.linalg.norm(x)
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.column_stack([x, np.cross(z, x), z]).ravel())
+    return quat
+
+
+def _skeleton(cfg: DictConfig) -> mujoco.MjSpec:
+    """The robot on the floor with lights and the physics options of the config."""
+    sim = cfg.sim
+    gripper = GripperModel.from_config(cfg.gripper)
+    spec = mujoco.MjSpec.from_string(
+        robot_xml(gripper, command_filter=float(sim.robot.command_filter))
+    )
+    base = spec.body("link0")
+    base.pos = np.asarray(sim.robot.base_pos, float)
+    base.quat = yaw_quat(math.radians(sim.robot.base_yaw_deg))
+    opt = spec.option
+    opt.timestep = float(sim.timestep)
+    if sim.integrator not in _INTEGRATORS:
+        raise RealIkeaError(f"sim.integrator must be one of {sorted(_INTEGRATORS)}")
+    opt.integrator = _INTEGRATORS[sim.integrator]
+    if cfg.contact.cone not in _CONES:
+        raise RealIkeaError(f"contact.cone must be one of {sorted(_CONES)}")
+    opt.cone = _CONES[cfg.contact.cone]
+    opt.impratio = float(cfg.contact.impratio)
+    opt.noslip_iterations = int(cfg.contact.noslip_iterations)
+    world = spec.worldbody
+    world.add_geom(
+        name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[3, 3, 0.05],
+        rgba=[0.55, 0.55, 0.52, 1], friction=[float(sim.floor_friction), 0.005, 0.0001],
+    )  # fmt: skip
+    world.add_light(name="key", pos=[1.5, 1.0, 2.5], dir=[-0.5, -0.3, -1], castshadow=False)
+    world.add_light(name="fill", pos=[1.0, -1.5, 2.0], dir=[-0.3, 0.6, -1], castshadow=False)
+    world.add_camera(
+        name="overview", pos=[1.6, -1.3, 1.5], quat=_look_at([1.6, -1.3, 1.5], [0.25, 0, 0.55])
+    )
+    spec.visual.global_.offwidth = 640
+    spec.visual.global_.offheight = 480
+    return spec
+
+
+def _plinth(spec: mujoco.MjSpec, cabinet: mujoco.MjSpec, height: float) -> None:
+    """A static box under the carcass (the cabinet's legs and kick plate), if it is raised."""
+    if height <= 0:
+        return
+    bottom = cabinet.geom("carcass_bottom")
+    side = cabinet.geom("carcass_side_left")
+    if bottom is None or side is None:
+        raise RealIkeaError("the configuration has no carcass_bottom / carcass_side_left geom")
+    half = [float(bottom.size[0]), abs(float(side.pos[1])) + float(side.size[1]), height / 2]
+    spec.worldbody.add_geom(
+        name="plinth", type=mujoco.mjtGeom.mjGEOM_BOX, size=half,
+        pos=[float(bottom.pos[0]), 0.0, height / 2], rgba=[0.3, 0.3, 0.3, 1],
+    )  # fmt: skip
+
+
+def base_kind(cabinet: mujoco.MjSpec) -> str:
+    """drawer, door or flap, from the configuration's front joint (slide, vertical or
+    horizontal hinge)."""
+    joint = cabinet.joint("front_joint")
+    if joint is None:
+        raise RealIkeaError("the configuration has no joint named front_joint")
+    if joint.type == mujoco.mjtJoint.mjJNT_SLIDE:
+        return "drawer"
+    return "door" if abs(joint.axis[2]) > 0.5 else "flap"
+
+
+def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
+    """Compile the robot (cfg.gripper) in front of one configuration (cfg.resistance applied to
+    its front joint) with the contact model of cfg.contact and the layout of cfg.sim."""
+    config_mjcf = Path(config_mjcf)
+    if not config_mjcf.is_file():
+        raise RealIkeaError(f"MJCF not found: {config_mjcf}")
+    spec = _skeleton(cfg)
+    cabinet = mujoco.MjSpec.from_file(str(config_mjcf))
+    # the parent's options rule; copying them avoids MuJoCo's attach-conflict warning
+    cabinet.option.cone, cabinet.option.impratio = spec.option.cone, spec.option.impratio
+    cabinet.option.timestep = spec.option.timestep
+    for light in cabinet.lights:
+        cabinet.delete(light)
+    plinth = cfg.sim.cabinet.plinth_height  # one height, or one per base kind
+    height = float(plinth[base_kind(cabinet)] if isinstance(plinth, DictConfig) else plinth)
+    _plinth(spec, cabinet, height)
+    frame = spec.worldbody.add_frame(pos=[0.0, 0.0, height])
+    spec.attach(cabinet, prefix=PREFIX, frame=frame)
+    joint = spec.joint(FRONT_JOINT)
+    damping = np.array(joint.damping, dtype=float, ndmin=1)  # MuJoCo 4: polynomial coefficients
+    damping[0] = float(cfg.resistance.damping)
+    joint.damping = damping if np.ndim(joint.damping) else float(damping[0])
+    joint.frictionloss = float(cfg.resistance.frictionloss)
+    try:
+        return spec.compile()
+    except ValueError as err:
+        raise RealIkeaError(f"{config_mjcf}: the scene does not compile: {err}") from err
+
+
+def reset_home(model: mujoco.MjModel, data: mujoco.MjData, cfg: DictConfig) -> None:
+    """Reset to the home posture with the gripper open and the front closed."""
+    mujoco.mj_resetData(model, data)
+    gripper = GripperModel.from_config(cfg.gripper)
+    home = np.asarray(cfg.sim.robot.home, float)
+    for name, value in zip(ARM_JOINTS, home, strict=True):
+        data.qpos[model.jnt_qposadr[model.joint(name).id]] = value
+    for name in FINGER_JOINTS:
+        data.qpos[model.jnt_qposadr[model.joint(name).id]] = gripper.stroke
+    for name, value in zip(ARM_ACTUATORS, home, strict=True):
+        actuator = model.actuator(name).id
+        data.ctrl[actuator] = value
+        if model.actuator_actadr[actuator] >= 0:  # the filtered command starts at home too
+            data.act[model.actuator_actadr[actuator]] = value
+    data.ctrl[model.actuator(GRIPPER_ACTUATOR).id] = gripper.ctrl(1.0)
+    mujoco.mj_forward(model, data)
