@@ -43,7 +43,8 @@ def coacd_pieces(mesh: trimesh.Trimesh, settings: CoacdSettings) -> list[trimesh
         seed=settings.seed,
     )
     hulls = [trimesh.Trimesh(v, f).convex_hull for v, f in pieces]
-    return [h for h in hulls if h.volume > 1e-12]
+    with np.errstate(invalid="ignore", divide="ignore"):  # flat slivers have no centre of mass
+        return [h for h in hulls if h.volume > 1e-12]
 
 
 def convex_hull(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
