@@ -89,3 +89,11 @@ def test_duplicate_part_id_is_an_error(tmp_path):
     (root / "parts.csv").write_text("\n".join([*lines, lines[1]]) + "\n")
     with pytest.raises(RealIkeaError, match="duplicate part id"):
         Catalog.load(root)
+
+
+def test_kind_filter(catalog):
+    drawers = list(catalog.configurations("two_point", kind="drawer"))
+    assert {c.base.kind for c in drawers} == {"drawer"}
+    assert len(drawers) == len(catalog.parts_in("two_point")) * 8
+    with pytest.raises(RealIkeaError, match="unknown base kind 'wardrobe'"):
+        list(catalog.configurations(kind="wardrobe"))

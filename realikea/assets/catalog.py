@@ -134,11 +134,21 @@ class Catalog:
         return [p for p in self.parts.values() if category in ("all", p.category)]
 
     def configurations(
-        self, category: str = "all", part: str | None = None, base: str | None = None
+        self,
+        category: str = "all",
+        part: str | None = None,
+        base: str | None = None,
+        kind: str | None = None,
     ) -> Iterator[Configuration]:
-        """Every part × base pair of a category, optionally pinned to one part and/or one base."""
+        """Every part × base pair of a category, optionally pinned to one part and/or one base,
+        or restricted to one kind of base (drawer, door, flap)."""
+        if kind is not None and kind not in BASE_KINDS:
+            raise RealIkeaError(
+                f"unknown base kind {kind!r}; choose one of {', '.join(BASE_KINDS)}"
+            )
         parts = [self.part(part)] if part else self.parts_in(category)
         bases = [self.base(base)] if base else list(self.bases.values())
+        bases = [b for b in bases if kind is None or b.kind == kind]
         for p in parts:
             for b in bases:
                 yield Configuration(p, b)

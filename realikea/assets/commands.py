@@ -56,7 +56,10 @@ def run_build(args: argparse.Namespace) -> int:
     elif args.part or args.base:
         configs = list(catalog.configurations(cfg.asset.category, args.part, args.base))
     else:
-        configs = list(catalog.configurations(cfg.asset.category, cfg.asset.part, cfg.asset.base))
+        asset = cfg.asset
+        configs = list(
+            catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind"))
+        )
     sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
     out = args.out or repo_path(cfg.paths.library)
     start = time.perf_counter()

@@ -49,7 +49,8 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     from realikea.config import repo_path
 
     catalog = Catalog.load()
-    pool = list(catalog.configurations(cfg.asset.category, cfg.asset.part, cfg.asset.base))
+    asset = cfg.asset
+    pool = list(catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind")))
     order = np.random.default_rng(seed).permutation(len(pool))
     chosen = [pool[order[i % len(pool)]] for i in range(n)]
     source = str(cfg.collision.source)
