@@ -11,7 +11,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-from omegaconf import DictConfig
+from omegaconf import DictConfig, OmegaConf
 
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, tcp_pitch
@@ -50,6 +50,16 @@ class EpisodeState:
 
 
 @dataclass(frozen=True)
+class Terminations:
+    """When an episode ends early (conf/task/open.yaml: terminations)."""
+
+    ik_failure_steps: int
+    stagnation_steps: int
+    stagnation_command: float
+    stagnation_motion: float
+
+
+@dataclass(frozen=True)
 class StepResult:
     obs: np.ndarray
     reward: float
@@ -78,6 +88,12 @@ class OpenTask:
         self.pitch_scale = float(task.action.pitch_scale)
         self.translation_scale = float(task.action.translation_scale)
         self.o1, self.o2 = (np.asarray(task.targets[k], float) for k in ("o1", "o2"))
+        # plain numbers: OmegaConf lookups cost tens of microseconds each on the hot path
+        ws = task.workspace
+        self.workspace = (np.asarray(ws.below, float), np.asarray(ws.above, float))
+        self.pitch_range = (float(ws.pitch[0]), float(ws.pitch[1]))
+        self.terminations = Terminations(**task.terminations)
+        self.outcome_thresholds = OmegaConf.to_container(task.outcome)
         self.iteration = 0
         m = self.model
         self._arm_q = np.array([m.jnt_qposadr[m.joint(j).id] for j in ARM_JOINTS])
@@ -143,16 +159,12 @@ class OpenTask:
             raise RealIkeaError(f"action must be 5 finite numbers, got {action!r}")
         a = np.clip(action, -1.0, 1.0)
         d = self.data
-        ws = self.cfg.task.workspace
+        below, above = self.workspace
         tcp = d.site_xpos[self._tcp]
         target = tcp + self.translation_scale * a[1:4]
-        target = np.clip(
-            target,
-            self._nominal_handle + np.asarray(ws.below),
-            self._nominal_handle + np.asarray(ws.above),
-        )
+        target = np.clip(target, self._nominal_handle + below, self._nominal_handle + above)
         pitch = tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3)) + self.pitch_scale * a[0]
-        pitch = float(np.clip(pitch, *ws.pitch))
+        pitch = min(max(pitch, self.pitch_range[0]), self.pitch_range[1])
         result = self.ik.solve(d.qpos[self._arm_q], target, pitch)
         d.ctrl[self._arm_act] = result.q
         d.ctrl[self._grip_act] = self.gripper.ctrl(a[4])
@@ -179,7 +191,7 @@ class OpenTask:
         reward += float(jerk_penalty(a, s.prev_action, s.prev_prev_action, p.w_jerk))
         reward -= 0.0 if ik_ok else p.ik_cost
         s.ik_failures = 0 if ik_ok else s.ik_failures + 1
-        term = self.cfg.task.terminations
+        term = self.terminations
         moved = float(np.linalg.norm(self.data.site_xpos[self._tcp] - self._tcp_before))
         commanded = float(np.linalg.norm(a[1:4])) > term.stagnation_command
         s.stagnant = s.stagnant + 1 if commanded and moved < term.stagnation_motion else 0
@@ -196,7 +208,7 @@ class OpenTask:
         truncated = not terminated and s.steps >= self.horizon
         info = {"opening": self.opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
         if terminated or truncated:
-            info["outcome"] = str(outcome(self.opening, self.joint_type, self.cfg.task.outcome))
+            info["outcome"] = str(outcome(self.opening, self.joint_type, self.outcome_thresholds))
             info["episode_return"] = s.episode_return
             info["episode_steps"] = s.steps
             info["termination"] = next((k for k, v in reasons.items() if v), "timeout")
