@@ -1,0 +1,115 @@
+"""The env pool as rsl-rl's `VecEnv`: TensorDict observations, time-outs, episode outcome logs.
+
+Both observation groups, `policy` (actor) and `critic`, hold the privileged observation. The
+training iteration is env steps // num_steps_per_env (the runner collects that many steps per
+iteration); when it changes the pool hears of it, so the two-phase randomization switches at
+`cfg.dr.switch_iteration`. After resuming from a checkpoint call `set_iteration(it)`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from rsl_rl.env import VecEnv
+from tensordict import TensorDict
+
+from realikea.errors import RealIkeaError
+from realikea.pool.env_pool import EnvPool
+from realikea.tasks.outcome import OUTCOMES
+
+OBS_GROUPS = ("policy", "critic")
+
+
+class EnvConfig(dict):
+    """The resolved config as a dict with `to_dict()` (what rsl-rl's log writers store)."""
+
+    def to_dict(self) -> dict:
+        return dict(self)
+
+
+class RslRlVecEnv(VecEnv):
+    """rsl-rl's view of an `EnvPool`; `close()` closes the pool."""
+
+    def __init__(self, pool: EnvPool, cfg: DictConfig, num_steps_per_env: int, device: str = "cpu"):
+        if int(num_steps_per_env) < 1:
+            raise RealIkeaError(f"num_steps_per_env={num_steps_per_env}: use 1 or more")
+        self.pool = pool
+        self.cfg = EnvConfig(OmegaConf.to_container(cfg, resolve=True))
+        self.num_steps_per_env = int(num_steps_per_env)
+        self.num_envs = pool.num_envs
+        self.num_actions = pool.num_actions
+        self.num_obs = pool.obs_size
+        self.max_episode_length = int(pool.horizon)
+        self.device = torch.device(device)
+        self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        self.common_step_counter = 0
+        self.iteration = pool.iteration
+
+    # --- iteration ----------------------------------------------------------------------------
+    def set_iteration(self, iteration: int) -> None:
+        """Continue counting from a training iteration (resume)."""
+        self.common_step_counter = int(iteration) * self.num_steps_per_env
+        self.iteration = int(iteration)
+        self.pool.set_iteration(self.iteration)
+
+    # --- VecEnv -------------------------------------------------------------------------------
+    def _observations(self, obs: np.ndarray) -> TensorDict:
+        policy = torch.as_tensor(obs, dtype=torch.float32, device=self.device)
+        return TensorDict(
+            {"policy": policy, "critic": policy.clone()},
+            batch_size=[self.num_envs],
+            device=self.device,
+        )
+
+    def get_observations(self) -> TensorDict:
+        return self._observations(self.pool.obs)
+
+    def step(self, actions: torch.Tensor) -> tuple[TensorDict, torch.Tensor, torch.Tensor, dict]:
+        a = actions.detach().to("cpu", torch.float64).numpy()
+        obs, reward, terminated, truncated, info = self.pool.step(a)
+        self.common_step_counter += 1
+        iteration = self.common_step_counter // self.num_steps_per_env
+        if iteration != self.iteration:
+            self.iteration = iteration
+            self.pool.set_iteration(iteration)
+
+        done = torch.as_tensor(terminated | truncated, device=self.device)
+        self.episode_length_buf += 1
+        self.episode_length_buf[done] = 0
+        # lengths pushed past the horizon from outside (the runner's init_at_random_ep_len)
+        over = (self.episode_length_buf >= self.max_episode_length).cpu().numpy()
+        if over.any():
+            ids = np.flatnonzero(over)
+            obs = self.pool.reset(ids)
+            truncated = truncated.copy()
+            truncated[ids] = True
+            self.episode_length_buf[torch.as_tensor(ids)] = 0
+
+        dones = torch.as_tensor(terminated | truncated, dtype=torch.long, device=self.device)
+        extras = {
+            "time_outs": torch.as_tensor(truncated, device=self.device),
+            "log": self._log(info["episodes"]),
+        }
+        rewards = torch.as_tensor(reward, dtype=torch.float32, device=self.device)
+        return self._observations(obs), rewards, dones, extras
+
+    def _log(self, episodes: list[dict]) -> dict[str, float | torch.Tensor]:
+        """Per-episode outcome indicators (rsl-rl averages them over the iteration) and counters."""
+        log: dict[str, float | torch.Tensor] = {}
+        finished = [e for e in episodes if "outcome" in e]
+        if finished:
+            labels = [e["outcome"] for e in finished]
+            for name in OUTCOMES:
+                log[f"/episode/{name}"] = torch.tensor([float(x == name) for x in labels])
+            openings = [e["opening"] for e in finished if math.isfinite(e["opening"])]
+            if openings:
+                log["/episode/opening"] = torch.tensor(openings, dtype=torch.float32)
+        for name, value in self.pool.counters.items():
+            log[f"/pool/{name}"] = float(value)
+        return log
+
+    def close(self) -> None:
+        self.pool.close()
