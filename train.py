@@ -1,8 +1,8 @@
 """Hydra entry point: train PPO on the opening task.
 
-    python train.py collision=hull resistance=high
-    python train.py -m collision=coacd,hull resistance=smooth,normal,high
-    python train.py -m hydra/launcher=joblib collision=coacd,hull   # runs in parallel locally
+python train.py collision=hull resistance=high
+python train.py -m collision=coacd,hull resistance=smooth,normal,high
+python train.py -m hydra/launcher=joblib collision=coacd,hull   # runs in parallel locally
 """
 
 import hydra

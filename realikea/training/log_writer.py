@@ -34,7 +34,9 @@ class RealIkeaLogWriter(LogWriter):
 
             os.environ.setdefault("WANDB_MODE", "offline")
             os.environ.setdefault("WANDB_DIR", str(self.log_dir))
-            self._run = wandb.init(project=project_name, name=self.log_dir.name, dir=str(self.log_dir))
+            self._run = wandb.init(
+                project=project_name, name=self.log_dir.name, dir=str(self.log_dir)
+            )
             self._mirror = lambda tag, value, step: self._run.log({tag: value}, step=step)
         elif backend == "tensorboard":
             from torch.utils.tensorboard import SummaryWriter

@@ -77,14 +77,17 @@ def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
 def train(cfg: DictConfig, run_dir: Path) -> Path:
     """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
     run_dir = Path(run_dir)
+    torch.set_num_threads(int(cfg.train.torch_threads))
     torch.manual_seed(int(cfg.env.seed))
     np.random.seed(int(cfg.env.seed))
     mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
     (run_dir / LAYOUT_FILE).write_text(json.dumps(observations.LAYOUT))
-    pool = EnvPool(cfg, mjcfs, num_workers=int(cfg.env.num_workers), seed=int(cfg.env.seed))
+    pool = EnvPool(cfg, mjcfs)
     try:
         env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env))
-        runner = OnPolicyRunner(env, runner_config(cfg), log_dir=str(run_dir), device=cfg.train.device)
+        runner = OnPolicyRunner(
+            env, runner_config(cfg), log_dir=str(run_dir), device=cfg.train.device
+        )
         if cfg.train.resume:
             load_checkpoint(runner, Path(cfg.train.resume))
             env.set_iteration(runner.current_learning_iteration)

@@ -1,0 +1,1 @@
+"""Evaluation: the Fail/Partial/Success protocol over episodes, reports and videos."""

@@ -1,0 +1,78 @@
+"""`realikea eval [overrides]`: a policy over episodes, Fail/Partial/Success and a JSON line."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from omegaconf import DictConfig, OmegaConf
+
+from realikea.config import load_config, repo_path
+from realikea.errors import RealIkeaError
+
+# groups a checkpoint brings from its own run unless the command line overrides them
+RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
+
+
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "overrides",
+        nargs="*",
+        help="Hydra overrides, e.g. policy=checkpoint policy.path=RUN/model_500.pt "
+        "asset=two_point resistance=high episodes=50 video=true",
+    )
+    parser.set_defaults(run=run_eval)
+
+
+def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:
+    """The eval config with the run's robot, gripper, contact and task unless overridden."""
+    merged = OmegaConf.to_container(cfg, resolve=True)
+    for group in RUN_GROUPS:
+        if group in run_cfg and not any(o.lstrip("+~").startswith(group) for o in overrides):
+            merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
+    return OmegaConf.create(merged)
+
+
+def make_policy(cfg: DictConfig):
+    """The policy named by `cfg.policy.name`."""
+    if cfg.policy.name == "checkpoint":
+        from realikea.policies.checkpoint import CheckpointPolicy
+
+        if not cfg.policy.path:
+            raise RealIkeaError("policy=checkpoint needs policy.path=PATH/model_<it>.pt")
+        return CheckpointPolicy(repo_path(cfg.policy.path))
+    raise RealIkeaError(f"unknown policy {cfg.policy.name!r}")
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    from realikea.eval.protocol import outcome_table, run_episodes
+    from realikea.pool.env_pool import EnvPool
+
+    cfg = load_config(args.overrides)
+    policy = make_policy(cfg)
+    if hasattr(policy, "run_cfg"):
+        cfg = effective_config(cfg, policy.run_cfg, args.overrides)
+    episodes = int(cfg.episodes)
+    if episodes < 1:
+        raise RealIkeaError(f"episodes={episodes}: use 1 or more")
+    num_envs = min(episodes, int(cfg.env.num_envs))
+    cfg.env.num_envs = num_envs
+    with EnvPool.from_config(cfg) as pool:
+        result = run_episodes(pool, policy, episodes)
+    print(
+        f"policy {cfg.policy.name} on asset={cfg.asset.category} resistance={cfg.resistance.name}"
+        f" collision={cfg.collision.source} gripper={cfg.gripper.name} contact={cfg.contact.name}"
+    )
+    print(outcome_table(result))
+    if cfg.video:
+        from realikea.assets.library import training_configurations
+        from realikea.eval.video import record
+        from realikea.tasks.open_task import OpenTask
+
+        (mjcf,) = training_configurations(cfg, 1, int(cfg.env.seed))
+        path = record(OpenTask(cfg, mjcf, int(cfg.env.seed)), policy, int(cfg.video_episodes),
+                      Path(cfg.video_path or "outputs/eval.mp4"))  # fmt: skip
+        print(f"video: {path}")
+    print(json.dumps(result.summary()))
+    return 0

@@ -1,0 +1,56 @@
+"""Run a policy for N episodes on the env pool and report Fail / Partial / Success."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm import tqdm
+
+from realikea.pool.env_pool import EnvPool
+from realikea.tasks.outcome import OUTCOMES, fractions
+
+
+@dataclass
+class EvalResult:
+    """Finished episodes (one dict each, as the pool reports them) and their summary."""
+
+    episodes: list[dict]
+
+    @property
+    def outcomes(self) -> list[str]:
+        return [e.get("outcome", "fail") for e in self.episodes]
+
+    def summary(self) -> dict:
+        """`{"episodes", "fail", "partial", "success"}`: the JSON line every eval prints."""
+        return {"episodes": len(self.episodes), **fractions(self.outcomes)}
+
+
+def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) -> EvalResult:
+    """Step every env until `episodes` episodes have finished; extra ones are discarded.
+
+    Episodes are counted in the order they finish; a pool with fewer envs than episodes
+    auto-resets envs, so each env contributes several episodes on its configuration.
+    """
+    finished: list[dict] = []
+    obs = pool.reset()
+    policy.reset(np.arange(pool.num_envs))
+    with tqdm(total=episodes, desc="episodes", disable=not progress) as bar:
+        while len(finished) < episodes:
+            obs, _, terminated, truncated, info = pool.step(policy.act(obs))
+            done = np.flatnonzero(terminated | truncated)
+            if len(done):
+                policy.reset(done)
+            new = [e for e in info["episodes"] if e.get("termination") != "worker_crash"]
+            take = new[: episodes - len(finished)]
+            finished += take
+            bar.update(len(take))
+    return EvalResult(finished)
+
+
+def outcome_table(result: EvalResult) -> str:
+    """A one-line markdown table of the outcome fractions."""
+    f = result.summary()
+    header = "| episodes | " + " | ".join(OUTCOMES) + " |"
+    row = f"| {f['episodes']} | " + " | ".join(f"{f[o]:.2f}" for o in OUTCOMES) + " |"
+    return "\n".join([header, "|---|" + "---|" * len(OUTCOMES), row])

@@ -1,0 +1,1 @@
+"""Policies: one interface for learned, scripted, sampled and teleoperated control."""

@@ -1,0 +1,98 @@
+"""train.py through Hydra (two iterations) and `realikea eval` on its checkpoint, with errors."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from realikea.assets.catalog import REPO_ROOT
+from realikea.cli import main
+
+SMALL = [
+    "asset=two_point",
+    "asset.part=tp_round_bar_128",
+    "asset.base=drawer_w60_h20",
+    "dr=fixed",
+    "env.num_envs=2",
+    "env.num_workers=0",
+    "task.episode_seconds=1.5",
+]
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """A two-iteration training run in its own Hydra run directory."""
+    run_dir = tmp_path_factory.mktemp("run")
+    library = tmp_path_factory.mktemp("library")
+    args = [*SMALL, "logger=none", "agent.max_iterations=2", "agent.num_steps_per_env=8"]
+    args += [f"paths.library={library}", f"hydra.run.dir={run_dir}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert "final checkpoint" in out.stdout
+    return run_dir, library
+
+
+def test_run_directory_holds_config_checkpoints_and_metrics(run):
+    run_dir, _ = run
+    assert (run_dir / ".hydra" / "config.yaml").is_file()
+    assert sorted(p.name for p in run_dir.glob("model_*.pt")) == ["model_0.pt", "model_1.pt"]
+    header = (run_dir / "metrics.csv").read_text().splitlines()[0]
+    assert header == "iteration,tag,value"
+    assert (run_dir / "observation_layout.json").is_file()
+
+
+def test_eval_prints_fractions_and_a_json_line(run, capsys):
+    run_dir, library = run
+    args = [*SMALL, f"paths.library={library}", "episodes=3"]
+    assert main(["eval", f"policy.path={run_dir / 'model_1.pt'}", *args]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    summary = json.loads(lines[-1])
+    assert set(summary) == {"episodes", "fail", "partial", "success"}
+    assert summary["episodes"] == 3
+    assert summary["fail"] + summary["partial"] + summary["success"] == pytest.approx(1.0)
+    assert "| episodes | fail | partial | success |" in lines
+
+
+def test_missing_checkpoint(capsys):
+    assert main(["eval", "policy.path=/nonexistent/model_9.pt"]) == 2
+    assert "checkpoint not found: /nonexistent/model_9.pt" in capsys.readouterr().err
+
+
+def test_corrupt_checkpoint(run, tmp_path, capsys):
+    run_dir, _ = run
+    broken = tmp_path / "run"
+    shutil.copytree(run_dir, broken)
+    (broken / "model_1.pt").write_bytes(b"not a torch file")
+    assert main(["eval", f"policy.path={broken / 'model_1.pt'}"]) == 2
+    assert "not a readable rsl-rl checkpoint" in capsys.readouterr().err
+
+
+def test_checkpoint_from_another_observation_layout(run, tmp_path, capsys):
+    run_dir, _ = run
+    other = tmp_path / "run"
+    shutil.copytree(run_dir, other)
+    (other / "observation_layout.json").write_text(json.dumps([["tcp_pos", 3], ["opening", 1]]))
+    assert main(["eval", f"policy.path={other / 'model_1.pt'}"]) == 2
+    assert "trained on observation layout" in capsys.readouterr().err
+
+
+def test_resume_continues_from_the_checkpoint(run, tmp_path):
+    run_dir, library = run
+    resumed = tmp_path / "resumed"
+    args = [*SMALL, "logger=none", "agent.max_iterations=1", "agent.num_steps_per_env=8"]
+    args += [f"paths.library={library}", f"hydra.run.dir={resumed}"]
+    args += [f"train.resume={run_dir / 'model_1.pt'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    # rsl-rl restarts at the checkpoint's iteration (1), not at 0
+    rows = (resumed / "metrics.csv").read_text().splitlines()[1:]
+    assert {int(r.split(",")[0]) for r in rows} == {1}
+    assert (resumed / "model_1.pt").is_file() and not (resumed / "model_0.pt").exists()
