@@ -75,14 +75,3 @@ def link_or_copy(src: Path, dst: Path) -> None:
         os.link(src, dst)
     except OSError:
         shutil.copy2(src, dst)
-
-
-def remove_stale_temporaries(root: Path) -> None:
-    """Delete leftovers of interrupted builds (hidden `.tmp`/`.old` siblings)."""
-    if not root.is_dir():
-        return
-    for leftover in list(root.glob(".*.tmp")) + list(root.glob(".*.old")):
-        if leftover.is_dir():
-            shutil.rmtree(leftover, ignore_errors=True)
-        else:
-            leftover.unlink(missing_ok=True)
