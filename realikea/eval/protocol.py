@@ -26,12 +26,21 @@ class EvalResult:
         return {"episodes": len(self.episodes), **fractions(self.outcomes)}
 
 
-def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) -> EvalResult:
-    """Step every env until `episodes` episodes have finished; extra ones are discarded.
+def episode_quotas(episodes: int, num_envs: int) -> np.ndarray:
+    """Episodes each env contributes: as equal as possible, the first envs one more."""
+    quotas = np.full(num_envs, episodes // num_envs)
+    quotas[: episodes % num_envs] += 1
+    return quotas
 
-    Episodes are counted in the order they finish; a pool with fewer envs than episodes
-    auto-resets envs, so each env contributes several episodes on its configuration.
+
+def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) -> EvalResult:
+    """Step every env until each has finished its quota of episodes (`episode_quotas`).
+
+    Quotas keep every configuration equally represented: counting episodes in the order they
+    finish would over-sample the envs whose episodes end early (usually failures).
     """
+    quotas = episode_quotas(episodes, pool.num_envs)
+    counts = np.zeros(pool.num_envs, dtype=int)
     finished: list[dict] = []
     obs = pool.reset()
     policy.reset(np.arange(pool.num_envs))
@@ -41,10 +50,12 @@ def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) ->
             done = np.flatnonzero(terminated | truncated)
             if len(done):
                 policy.reset(done)
-            new = [e for e in info["episodes"] if e.get("termination") != "worker_crash"]
-            take = new[: episodes - len(finished)]
-            finished += take
-            bar.update(len(take))
+            for e in info["episodes"]:
+                env = e["env"]
+                if e.get("termination") != "worker_crash" and counts[env] < quotas[env]:
+                    counts[env] += 1
+                    finished.append(e)
+                    bar.update(1)
     return EvalResult(finished)
 
 
