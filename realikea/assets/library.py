@@ -6,7 +6,11 @@ import csv
 from pathlib import Path
 
 import mujoco
+import numpy as np
 
+from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.catalog import Catalog
+from realikea.config import repo_path
 from realikea.errors import RealIkeaError
 
 FRONT_JOINT = "front_joint"
@@ -42,17 +46,13 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     Configurations are drawn without replacement (cycling when n exceeds the category) in a
     seeded order, for the collision source of `cfg.collision`.
     """
-    import numpy as np
-
-    from realikea.assets.build import Resistance, WorkflowSettings, build_library
-    from realikea.assets.catalog import Catalog
-    from realikea.config import repo_path
-
     catalog = Catalog.load()
     asset = cfg.asset
-    pool = list(catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind")))
-    order = np.random.default_rng(seed).permutation(len(pool))
-    chosen = [pool[order[i % len(pool)]] for i in range(n)]
+    candidates = list(
+        catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind"))
+    )
+    order = np.random.default_rng(seed).permutation(len(candidates))
+    chosen = [candidates[order[i % len(candidates)]] for i in range(n)]
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
     build_library(  # a no-op for configurations that are already current
