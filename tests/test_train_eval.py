@@ -96,3 +96,17 @@ def test_resume_continues_from_the_checkpoint(run, tmp_path):
     rows = (resumed / "metrics.csv").read_text().splitlines()[1:]
     assert {int(r.split(",")[0]) for r in rows} == {1}
     assert (resumed / "model_1.pt").is_file() and not (resumed / "model_0.pt").exists()
+
+
+@pytest.mark.slow
+def test_joblib_multirun_over_collision_sources(tmp_path):
+    """The fidelity ablation as one line, jobs in parallel (env workers inside loky workers)."""
+    args = [*SMALL, "env.num_workers=1", "logger=none", "agent.max_iterations=1"]
+    args += ["agent.num_steps_per_env=4", "collision=coacd,hull", "hydra/launcher=joblib"]
+    args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 'sweep'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", "-m", *args], cwd=REPO_ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert (tmp_path / "sweep" / "0" / "model_0.pt").is_file()
+    assert (tmp_path / "sweep" / "1" / "model_0.pt").is_file()

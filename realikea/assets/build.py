@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import multiprocessing
 import os
 from collections.abc import Iterable
 from concurrent.futures import ProcessPoolExecutor
@@ -28,6 +27,7 @@ from realikea.assets.workflow import (
     segmentation,
 )
 from realikea.errors import RealIkeaError
+from realikea.spawn import spawn_context
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
 CONFIG_STEPS_VERSION = "3"  # bump when steps 5-6 change what they write
@@ -238,7 +238,7 @@ class BuildReport:
 def _pool(workers: int | None) -> ProcessPoolExecutor:
     """Worker processes started fresh: CoACD's thread pool does not survive a fork."""
     return ProcessPoolExecutor(
-        max_workers=workers or os.cpu_count() or 1, mp_context=multiprocessing.get_context("spawn")
+        max_workers=workers or os.cpu_count() or 1, mp_context=spawn_context()
     )
 
 

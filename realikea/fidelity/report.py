@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import io
-import multiprocessing
 import os
 import tempfile
 import time
@@ -50,6 +49,7 @@ from realikea.fidelity.metric import (
     point_surface_distance,
     surface_deviation,
 )
+from realikea.spawn import spawn_context
 
 SOURCES = ("coacd", "hull")
 STATS = ("mean", "median", "p90", "max")
@@ -329,7 +329,7 @@ def _pool_map(fn, jobs: list, workers: int, desc: str, progress: bool) -> list:
         return [fn(j) for j in tqdm(jobs, desc=desc, disable=not progress)]
     out: list = [None] * len(jobs)
     # fresh interpreters: CoACD's, libigl's and manifold3d's thread pools do not survive a fork
-    context = multiprocessing.get_context("spawn")
+    context = spawn_context()
     with ProcessPoolExecutor(max_workers=min(workers, len(jobs)), mp_context=context) as pool:
         futures = {pool.submit(fn, job): i for i, job in enumerate(jobs)}
         for future in tqdm(as_completed(futures), total=len(jobs), desc=desc, disable=not progress):

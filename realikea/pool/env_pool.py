@@ -21,7 +21,8 @@ A diverged episode ends `terminated` with zero reward; one cut short by the pool
 bad action) ends `truncated`. Neither carries an `outcome` (they are counted instead).
 A Python exception inside a task is a bug and is raised with the worker's traceback.
 
-`num_workers=0` runs everything in the calling process (debugging, tests).
+`num_workers=0` runs everything in the calling process (debugging, tests). With workers, a script
+that builds a pool needs the `if __name__ == "__main__":` guard (spawn re-imports the main module).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.errors import RealIkeaError
+from realikea.spawn import spawn_context
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE, OpenTask
 
@@ -388,7 +390,7 @@ class EnvPool:
             info = self._local.info()
         else:
             self._local = None
-            self._ctx = mp.get_context("spawn")
+            self._ctx = spawn_context()
             self._buffer = self._ctx.RawArray("b", size)
             self._a = _views(self._buffer, self.num_envs, self.num_workers)
             slices = np.array_split(np.arange(self.num_envs), self.num_workers)
