@@ -36,17 +36,16 @@ def sample_configs(catalog):
     ]
 
 
+def build_sample(configs, settings, cache_root, out):
+    """Build configurations for both collision sources in high resistance, quietly."""
+    high = Resistance("high", 10.0, 20.0)
+    return build_library(
+        configs, settings, high, ("coacd", "hull"), cache_root, out, progress=False
+    )
+
+
 @pytest.fixture(scope="session")
 def sample_library(tmp_path_factory, sample_configs, settings, cache_root):
     """The sample built for both collision sources in high resistance."""
     out = tmp_path_factory.mktemp("library")
-    report = build_library(
-        sample_configs,
-        settings,
-        Resistance("high", 10.0, 20.0),
-        ("coacd", "hull"),
-        cache_root,
-        out,
-        progress=False,
-    )
-    return out, report
+    return out, build_sample(sample_configs, settings, cache_root, out)

@@ -8,6 +8,7 @@ import shutil
 
 import mujoco
 import numpy as np
+from conftest import build_sample
 
 from realikea.assets.build import (
     INDEX_COLUMNS,
@@ -91,15 +92,7 @@ def test_closed_front_does_not_touch_the_carcass(sample_library):
 def test_second_run_is_a_no_op(sample_library, sample_configs, settings, cache_root):
     out, _ = sample_library
     before = {p: p.stat().st_mtime_ns for p in out.glob("*/model_*.xml")}
-    report = build_library(
-        sample_configs,
-        settings,
-        Resistance("high", 10.0, 20.0),
-        ("coacd", "hull"),
-        cache_root,
-        out,
-        progress=False,
-    )
+    report = build_sample(sample_configs, settings, cache_root, out)
     assert (report.parts_built, report.configs_built) == (0, 0)
     assert report.configs_cached == len(sample_configs)
     assert before == {p: p.stat().st_mtime_ns for p in out.glob("*/model_*.xml")}
