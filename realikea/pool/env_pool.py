@@ -197,7 +197,7 @@ class _EnvSlice:
             timers[_T["simulate"]] += t2 - t1
             timers[_T["evaluate"]] += t3 - t2
             finite = not fatal and np.all(np.isfinite(result.obs)) and math.isfinite(result.reward)
-            if fatal or not finite or result.info["diverged"] or _unstable(task.data):
+            if fatal or not finite or result.info["diverged"]:
                 self.counters[_C["divergence_resets"]] += 1
                 record = self._aborted(task, "diverged")
                 a["opening"][i] = record["opening"]
@@ -223,22 +223,6 @@ class _EnvSlice:
         timers[_T["last_busy"]] = busy
         timers[_T["steps"]] += len(self.tasks)
         return ended
-
-
-# MuJoCo's warnings that the step went wrong: a NaN/huge state or control (MuJoCo then silently
-# resets the state or zeroes the control) or a full arena (contacts or constraints dropped)
-_INSTABILITY = tuple(
-    int(getattr(mujoco.mjtWarning, name))
-    for name in (
-        "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC", "mjWARN_BADCTRL",
-        "mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL",
-    )
-)  # fmt: skip
-
-
-def _unstable(data: mujoco.MjData) -> bool:
-    """Whether MuJoCo warned of instability since the episode began (reset clears the counts)."""
-    return any(data.warning[w].number > 0 for w in _INSTABILITY)
 
 
 _EPISODE_KEYS = ("outcome", "termination", "opening")

@@ -34,6 +34,15 @@ from realikea.tasks.randomization import PosePerturbation, Randomization
 from realikea.tasks.rewards import RewardParams, jerk_penalty, next_stage, staged_reward
 
 ACTION_SIZE = 5
+# MuJoCo's warnings that a step went wrong: a NaN/huge state or control (MuJoCo then silently
+# resets the state or zeroes the control) or a full arena (contacts or constraints dropped)
+INSTABILITY_WARNINGS = tuple(
+    int(getattr(mujoco.mjtWarning, name))
+    for name in (
+        "mjWARN_BADQPOS", "mjWARN_BADQVEL", "mjWARN_BADQACC", "mjWARN_BADCTRL",
+        "mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL",
+    )
+)  # fmt: skip
 
 
 @dataclass
@@ -177,7 +186,7 @@ class OpenTask:
 
     def diverged(self) -> bool:
         """NaN state or MuJoCo's own instability warning."""
-        bad = self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0
+        bad = any(self.data.warning[w].number > 0 for w in INSTABILITY_WARNINGS)
         return bool(bad or not np.all(np.isfinite(self.data.qpos)))
 
     def evaluate(self, ik_ok: bool) -> StepResult:
