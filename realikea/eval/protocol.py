@@ -8,6 +8,7 @@ import numpy as np
 from tqdm import tqdm
 
 from realikea.pool.env_pool import EnvPool
+from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.outcome import OUTCOMES, fractions
 
 
@@ -22,8 +23,16 @@ class EvalResult:
         return [e.get("outcome", "fail") for e in self.episodes]
 
     def summary(self) -> dict:
-        """`{"episodes", "fail", "partial", "success"}`: the JSON line every eval prints."""
-        return {"episodes": len(self.episodes), **fractions(self.outcomes)}
+        """`{"episodes", "fail", "partial", "success", "strategies"}`: the JSON line of an eval.
+
+        `strategies` holds the fraction of episodes per classifier label (when contacts were
+        logged).
+        """
+        out = {"episodes": len(self.episodes), **fractions(self.outcomes)}
+        labels = [e["strategy"] for e in self.episodes if "strategy" in e]
+        if labels:
+            out["strategies"] = {s: labels.count(s) / len(labels) for s in STRATEGIES}
+        return out
 
 
 def episode_quotas(episodes: int, num_envs: int) -> np.ndarray:
@@ -43,13 +52,14 @@ def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) ->
     counts = np.zeros(pool.num_envs, dtype=int)
     finished: list[dict] = []
     obs = pool.reset()
-    policy.reset(np.arange(pool.num_envs))
+    everyone = np.arange(pool.num_envs)
+    policy.reset(everyone, pool.facts(everyone))
     with tqdm(total=episodes, desc="episodes", disable=not progress) as bar:
         while len(finished) < episodes:
             obs, _, terminated, truncated, info = pool.step(policy.act(obs))
             done = np.flatnonzero(terminated | truncated)
             if len(done):
-                policy.reset(done)
+                policy.reset(done, pool.facts(done))
             for e in info["episodes"]:
                 env = e["env"]
                 if e.get("termination") != "worker_crash" and counts[env] < quotas[env]:

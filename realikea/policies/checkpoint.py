@@ -57,8 +57,8 @@ class CheckpointPolicy:
             raise RealIkeaError(f"{path}: actor does not match the run's network ({err})") from err
         self.actor.eval()
 
-    def reset(self, env_ids) -> None:
-        """Stateless: nothing to forget between episodes."""
+    def reset(self, env_ids, facts) -> None:
+        """Stateless: nothing to forget between episodes (and no privileged scene facts)."""
 
     @torch.inference_mode()
     def act(self, obs: np.ndarray) -> np.ndarray:

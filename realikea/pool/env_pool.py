@@ -135,6 +135,11 @@ class _EnvSlice:
             "joint_type": [t.joint_type for t in self.tasks],
         }
 
+    def facts(self, env_ids) -> dict:
+        """The current episode's SceneFacts of the given global env ids that this slice owns."""
+        wanted = {int(i) for i in env_ids}
+        return {i: t.facts() for t, i in zip(self.tasks, self.ids, strict=True) if i in wanted}
+
     def set_iteration(self, iteration: int) -> None:
         for task in self.tasks:
             task.iteration = int(iteration)
@@ -225,7 +230,10 @@ class _EnvSlice:
         return ended
 
 
-_EPISODE_KEYS = ("outcome", "termination", "opening")
+_EPISODE_KEYS = (
+    "outcome", "termination", "opening", "strategy", "pull_seconds", "pull_normal", "pull_friction",
+    "friction_share", "grip_force", "normal_angle_deg", "peak_pull", "peak_slip_ratio",
+)  # fmt: skip
 
 
 def _worker_main(conn, buffer, num_envs, num_workers, cfg, paths, seeds, env_ids, worker, it, prof):
@@ -249,6 +257,8 @@ def _worker_main(conn, buffer, num_envs, num_workers, cfg, paths, seeds, env_ids
             elif command == "reset":
                 envs.reset(argument)
                 conn.send(("ok", None))
+            elif command == "facts":
+                conn.send(("ok", envs.facts(argument)))
             elif command == "iteration":  # no reply: pipe order puts it before the next step
                 envs.set_iteration(argument)
             elif command == "close":
@@ -547,6 +557,21 @@ class EnvPool:
         self._returns[list(ids)] = 0.0
         self._obs = self._a["obs"].copy()
         return self._obs.copy()
+
+    def facts(self, env_ids: Sequence[int]) -> list:
+        """The SceneFacts of the given envs' current episodes (for scripted policies)."""
+        self._check_open()
+        ids = [int(i) for i in env_ids]
+        if self._local is not None:
+            found = self._local.facts(ids)
+        else:
+            wanted = set(ids)
+            owners = [w for w in self._workers if wanted & set(w.env_ids)]
+            replies, lost = self._command("facts", ids, owners)
+            if lost:
+                raise RealIkeaError("an env worker was lost while reading scene facts")
+            found = {i: f for reply in replies.values() for i, f in reply.items()}
+        return [found[i] for i in ids]
 
     def step(self, actions) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict]:
         """One control step of every env (see the class docstring for what it returns)."""

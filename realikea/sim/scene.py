@@ -169,11 +169,12 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
         raise RealIkeaError(f"{config_mjcf}: the scene does not compile: {err}") from err
 
 
-def reset_home(model: mujoco.MjModel, data: mujoco.MjData, cfg: DictConfig) -> None:
-    """Reset to the home posture with the gripper open and the front closed."""
+def reset_home(model: mujoco.MjModel, data: mujoco.MjData, cfg: DictConfig, home=None) -> None:
+    """Reset to the home posture (cfg's, or the given one) with the gripper open and the front
+    closed."""
     mujoco.mj_resetData(model, data)
     gripper = GripperModel.from_config(cfg.gripper)
-    home = np.asarray(cfg.sim.robot.home, float)
+    home = np.asarray(cfg.sim.robot.home if home is None else home, float)
     for name, value in zip(ARM_JOINTS, home, strict=True):
         data.qpos[model.jnt_qposadr[model.joint(name).id]] = value
     for name in FINGER_JOINTS:

@@ -6,6 +6,7 @@ them is the env pool's business (realikea/pool).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -13,14 +14,17 @@ import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
+from realikea.assets.catalog import Catalog
+from realikea.assets.workflow.assembly import mount_pose
 from realikea.errors import RealIkeaError
-from realikea.sim.ik import IKController, tcp_pitch
-from realikea.sim.robot import GripperModel
+from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
+from realikea.sim.robot import FINGER_BODIES, HAND_BODY, GripperModel
 from realikea.sim.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
     CABINET_ROOT,
     FINGER_JOINTS,
+    FRONT_BODY,
     FRONT_JOINT,
     GRIPPER_ACTUATOR,
     HANDLE_SITE,
@@ -29,6 +33,8 @@ from realikea.sim.scene import (
     reset_home,
 )
 from realikea.tasks import observations
+from realikea.tasks.contacts import ClassifierParams, ContactLog, ContactMonitor
+from realikea.tasks.facts import SceneFacts
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
 from realikea.tasks.rewards import RewardParams, jerk_penalty, next_stage, staged_reward
@@ -56,6 +62,7 @@ class EpisodeState:
     ik_failures: int = 0
     stagnant: int = 0
     episode_return: float = 0.0
+    contacts: ContactLog = field(default_factory=ContactLog)
 
 
 @dataclass(frozen=True)
@@ -85,7 +92,17 @@ class OpenTask:
         self.cfg = cfg
         self.model = build_scene(Path(config_mjcf), cfg)
         self.data = mujoco.MjData(self.model)
-        self.ik = IKController.from_config(cfg)
+        self.config_id = Path(config_mjcf).parent.name
+        self.part, self.base = _catalog_entries(self.config_id)
+        # roll fixed per configuration: the jaws close across the handle (vertical on doors);
+        # the hand is symmetric under a half turn, so -90 deg is +90 deg
+        self.nominal = rolled_nominal(math.radians(self.base.mount_roll_deg % 180.0))
+        self.home = np.asarray(cfg.sim.robot.home, float)
+        if self.base.mount_roll_deg % 180.0:
+            unrolled = IKController.from_config(cfg, nominal=self.nominal)
+            position, _ = unrolled.tcp_pose(self.home)
+            self.home = unrolled.converge(self.home, position, 0.0)
+        self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home)
         self.gripper = GripperModel.from_config(cfg.gripper)
         self.params = RewardParams(**task.reward)
         self.randomization = Randomization.from_config(cfg.dr)
@@ -118,6 +135,16 @@ class OpenTask:
         self.perturb = PosePerturbation(m, parts, self._handle, m.body(CABINET_ROOT).id)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
+        self._front = m.body(FRONT_BODY).id
+        self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
+        contacts = task.contacts
+        self.classifier = ClassifierParams(
+            **{k: v for k, v in OmegaConf.to_container(contacts).items() if k != "log"}
+        )
+        gripper_bodies = [m.body(b).id for b in (HAND_BODY, *FINGER_BODIES)]
+        self.contact_monitor = (
+            ContactMonitor(m, gripper_bodies, parts) if bool(contacts.log) else None
+        )
 
     # --- reading the scene ----------------------------------------------------------------
     @property
@@ -132,6 +159,45 @@ class OpenTask:
         tcp, handle = self.data.site_xpos[self._tcp], self.data.site_xpos[self._handle]
         return float(np.linalg.norm(tcp - handle - self.o1)), float(
             np.linalg.norm(tcp - handle - self.o2)
+        )
+
+    def pull_direction(self) -> np.ndarray:
+        """Unit world direction the handle moves in as the front opens (the joint's Jacobian)."""
+        jac = np.zeros((3, self.model.nv))
+        mujoco.mj_jacSite(self.model, self.data, jac, None, self._handle)
+        u = jac[:, self._front_v]
+        return u / np.linalg.norm(u)
+
+    def facts(self) -> SceneFacts:
+        """The scene of the current episode for scripted policies (privileged, world frame)."""
+        m, d = self.model, self.data
+        mount, quat = mount_pose(self.base)
+        shift = m.site_pos[self._handle] - self.perturb.site_pos  # the handle's randomization
+        front_rot = d.xmat[self._front].reshape(3, 3)
+        local = np.empty(9)
+        mujoco.mju_quat2Mat(local, quat)
+        anchor = axis = None
+        if self.joint_type == "hinge":
+            front = m.joint(FRONT_JOINT).id
+            anchor, axis = d.xanchor[front].copy(), d.xaxis[front].copy()
+        return SceneFacts(
+            config_id=self.config_id,
+            part_id=self.part.id,
+            category=self.part.category,
+            base_kind=self.base.kind,
+            joint_type=self.joint_type,
+            robot_base=d.xpos[self._base].copy(),
+            handle_pos=d.site_xpos[self._handle].copy(),
+            part_pos=d.xpos[self._front] + front_rot @ (mount + shift),
+            part_rot=front_rot @ local.reshape(3, 3),
+            pull_dir=self.pull_direction(),
+            hinge_anchor=anchor,
+            hinge_axis=axis,
+            visual_mesh=self._mesh,
+            tcp_nominal=self.nominal,
+            part_dims=dict(self.part.dims),
+            pad_friction=self.gripper.pad_friction,
+            max_aperture=2 * self.gripper.stroke,
         )
 
     def observe(self) -> np.ndarray:
@@ -154,7 +220,7 @@ class OpenTask:
         """Start an episode (poses perturbed when randomization is active)."""
         active = self.randomization.active(self.iteration)
         self.perturb.apply(self.rng if active else None, self.randomization)
-        reset_home(self.model, self.data, self.cfg)
+        reset_home(self.model, self.data, self.cfg, self.home)
         self.state = EpisodeState()
         self._nominal_handle = self.data.site_xpos[self._handle].copy()
         d1, d2 = self._targets()
@@ -172,7 +238,9 @@ class OpenTask:
         tcp = d.site_xpos[self._tcp]
         target = tcp + self.translation_scale * a[1:4]
         target = np.clip(target, self._nominal_handle + below, self._nominal_handle + above)
-        pitch = tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3)) + self.pitch_scale * a[0]
+        pitch = (
+            tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3), self.nominal) + self.pitch_scale * a[0]
+        )
         pitch = min(max(pitch, self.pitch_range[0]), self.pitch_range[1])
         result = self.ik.solve(d.qpos[self._arm_q], target, pitch)
         d.ctrl[self._arm_act] = result.q
@@ -182,7 +250,18 @@ class OpenTask:
 
     def simulate(self) -> None:
         """Advance the physics by one control period."""
-        mujoco.mj_step(self.model, self.data, nstep=self.decimation)
+        if self.contact_monitor is None:
+            mujoco.mj_step(self.model, self.data, nstep=self.decimation)
+            return
+        every = self.classifier.sample_substeps  # same physics, sampled between substeps
+        for _ in range(self.decimation // every):
+            mujoco.mj_step(self.model, self.data, nstep=every)
+            rate = float(self.data.qvel[self._front_v])
+            self.contact_monitor.record(
+                self.state.contacts, self.data, self.pull_direction(), rate, self.classifier
+            )
+        if self.decimation % every:
+            mujoco.mj_step(self.model, self.data, nstep=self.decimation % every)
 
     def diverged(self) -> bool:
         """NaN state or MuJoCo's own instability warning."""
@@ -221,6 +300,9 @@ class OpenTask:
             info["episode_return"] = s.episode_return
             info["episode_steps"] = s.steps
             info["termination"] = next((k for k, v in reasons.items() if v), "timeout")
+            if self.contact_monitor is not None:
+                period = self.classifier.sample_substeps * self.model.opt.timestep
+                info.update(s.contacts.summary(self.part.category, self.classifier, period))
         obs = self.observe() if not diverged else np.zeros(observations.SIZE)
         return StepResult(obs, reward, terminated, truncated, info)
 
@@ -229,3 +311,12 @@ class OpenTask:
         ok = self.apply_action(action)
         self.simulate()
         return self.evaluate(ok)
+
+
+def _catalog_entries(config_id: str):
+    """The catalog's part and base of a configuration id `<part>__<base>`."""
+    part_id, sep, base_id = config_id.partition("__")
+    if not sep:
+        raise RealIkeaError(f"{config_id!r} is not a configuration id of the form <part>__<base>")
+    catalog = Catalog.load()
+    return catalog.part(part_id), catalog.base(base_id)
