@@ -8,7 +8,7 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
 
 # groups a checkpoint brings from its own run unless the command line overrides them
@@ -34,22 +34,13 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     return OmegaConf.create(merged)
 
 
-def make_policy(cfg: DictConfig):
-    """The policy named by `cfg.policy.name`."""
-    if cfg.policy.name == "checkpoint":
-        from realikea.policies.checkpoint import CheckpointPolicy
-
-        if not cfg.policy.path:
-            raise RealIkeaError("policy=checkpoint needs policy.path=PATH/model_<it>.pt")
-        return CheckpointPolicy(repo_path(cfg.policy.path))
-    raise RealIkeaError(f"unknown policy {cfg.policy.name!r}")
-
-
 def run_eval(args: argparse.Namespace) -> int:
     from realikea.eval.protocol import outcome_table, run_episodes
+    from realikea.policies.registry import make_policy
     from realikea.pool.env_pool import EnvPool
 
     cfg = load_config(args.overrides)
+    cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
     policy = make_policy(cfg)
     if hasattr(policy, "run_cfg"):
         cfg = effective_config(cfg, policy.run_cfg, args.overrides)
@@ -67,12 +58,14 @@ def run_eval(args: argparse.Namespace) -> int:
     print(outcome_table(result))
     if cfg.video:
         from realikea.assets.library import training_configurations
-        from realikea.eval.video import record
+        from realikea.eval.video import record_strategies
         from realikea.tasks.open_task import OpenTask
 
-        (mjcf,) = training_configurations(cfg, 1, int(cfg.env.seed))
-        path = record(OpenTask(cfg, mjcf, int(cfg.env.seed)), policy, int(cfg.video_episodes),
-                      Path(cfg.video_path or "outputs/eval.mp4"))  # fmt: skip
-        print(f"video: {path}")
+        cfg.task.contacts.log = True
+        paths = training_configurations(cfg, int(cfg.video_episodes), int(cfg.env.seed))
+        tasks = [OpenTask(cfg, p, int(cfg.env.seed) + i) for i, p in enumerate(paths)]
+        stem = Path(cfg.video_path or "outputs/eval.mp4")
+        for label, path in record_strategies(tasks, policy, int(cfg.video_episodes), stem).items():
+            print(f"video ({label}): {path}")
     print(json.dumps(result.summary()))
     return 0

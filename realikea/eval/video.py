@@ -1,4 +1,4 @@
-"""MP4 of a policy's episodes, rendered offscreen on the CPU."""
+"""MP4s of a policy's episodes, rendered offscreen on the CPU: one per strategy observed."""
 
 from __future__ import annotations
 
@@ -15,27 +15,50 @@ from realikea.tasks.open_task import OpenTask
 FPS = 10  # one frame per control step (the policy runs at 10 Hz)
 
 
-def record(task: OpenTask, policy, episodes: int, path: Path, size=(480, 640)) -> Path:
-    """Run `episodes` episodes of `policy` on `task` and write them to one MP4 (atomically)."""
+def episode_frames(task: OpenTask, policy, renderer: mujoco.Renderer) -> tuple[list, dict]:
+    """Run one episode; its frames and its final info (outcome, strategy, ...)."""
+    camera = task.model.camera("overview").id if task.model.ncam else -1
+    obs, frames = task.reset(), []
+    policy.reset(np.array([0]), [task.facts()])
+    while True:
+        renderer.update_scene(task.data, camera)
+        frames.append(renderer.render())
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            return frames, result.info
+
+
+def write_mp4(frames: list, path: Path) -> Path:
+    """Write frames to an MP4 atomically (no half-written file on failure)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    renderer = mujoco.Renderer(task.model, *size)
-    camera = task.model.camera("overview").id if task.model.ncam else -1
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".mp4")
     os.close(fd)
     try:
         with imageio.get_writer(tmp, fps=FPS, codec="libx264", quality=7) as writer:
-            for _ in range(episodes):
-                obs, done = task.reset(), False
-                policy.reset(np.array([0]))
-                while not done:
-                    renderer.update_scene(task.data, camera)
-                    writer.append_data(renderer.render())
-                    result = task.step(policy.act(obs[None])[0])
-                    obs, done = result.obs, result.terminated or result.truncated
+            for frame in frames:
+                writer.append_data(frame)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     finally:
-        renderer.close()
         Path(tmp).unlink(missing_ok=True)
     return path
+
+
+def record_strategies(
+    tasks: list[OpenTask], policy, episodes: int, stem: Path, size=(360, 480)
+) -> dict[str, Path]:
+    """Run up to `episodes` episodes (cycling over `tasks`) and write the first episode of each
+    strategy label to `<stem>_<strategy>.mp4`; returns label -> path."""
+    written: dict[str, Path] = {}
+    stem = Path(stem)
+    for k in range(episodes):
+        task = tasks[k % len(tasks)]
+        with mujoco.Renderer(task.model, *size) as renderer:
+            frames, info = episode_frames(task, policy, renderer)
+        label = info.get("strategy", "episode")
+        if label not in written:
+            name = f"{stem.stem}_{label}_{info.get('outcome', 'fail')}.mp4"
+            written[label] = write_mp4(frames, stem.with_name(name))
+    return written

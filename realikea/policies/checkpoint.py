@@ -10,6 +10,7 @@ from omegaconf import DictConfig, OmegaConf
 from rsl_rl.models import MLPModel
 from tensordict import TensorDict
 
+from realikea.config import repo_path
 from realikea.errors import RealIkeaError
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
@@ -56,6 +57,13 @@ class CheckpointPolicy:
         except RuntimeError as err:
             raise RealIkeaError(f"{path}: actor does not match the run's network ({err})") from err
         self.actor.eval()
+
+    @classmethod
+    def from_config(cls, cfg: DictConfig) -> CheckpointPolicy:
+        """`policy.path` names the checkpoint (relative paths from the repository root)."""
+        if not cfg.policy.path:
+            raise RealIkeaError("policy=checkpoint needs policy.path=PATH/model_<it>.pt")
+        return cls(repo_path(cfg.policy.path))
 
     def reset(self, env_ids, facts) -> None:
         """Stateless: nothing to forget between episodes (and no privileged scene facts)."""

@@ -77,6 +77,12 @@ class WaypointPolicy:
         self.count: dict[int, int] = {}
         self.reached: dict[int, int] = {}
 
+    @classmethod
+    def from_config(cls, cfg):
+        """The task's action scales; subclasses read their own `cfg.policy` settings."""
+        action = cfg.task.action
+        return cls(ActionScales(float(action.translation_scale), float(action.pitch_scale)))
+
     def plan(self, facts: SceneFacts) -> list[Waypoint]:
         raise NotImplementedError
 
