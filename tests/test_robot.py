@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import mink
 import mujoco
 import numpy as np
 import pytest
@@ -13,7 +14,13 @@ from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog
 from realikea.config import load_config, repo_path
 from realikea.errors import RealIkeaError
-from realikea.sim.ik import IKController, tcp_pitch, tcp_rotation
+from realikea.sim.ik import (
+    VELOCITY_LIMIT,
+    IKController,
+    rolled_nominal,
+    tcp_pitch,
+    tcp_rotation,
+)
 from realikea.sim.robot import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -330,6 +337,74 @@ def test_ik_reaches_a_target_near_each_handle(library, base):
     assert result.position_error < 0.003 and result.rotation_error < 0.01
     limits = joint_limits()
     assert np.all(q >= limits[:, 0]) and np.all(q <= limits[:, 1])
+
+
+def _mink_reference(ik: IKController, q, position, pitch: float):
+    """IKController.solve written out plainly: mink.solve_ik on fresh tasks, then the checks."""
+    lower, upper = joint_limits().T
+    q = np.clip(np.asarray(q, float), lower, upper)
+    configuration = mink.Configuration(ik.model)
+    configuration.update(q)
+    frame = mink.FrameTask(TCP_SITE, "site", position_cost=1.0, orientation_cost=1.0)
+    rotation = mink.SO3.from_matrix(tcp_rotation(pitch, ik.nominal))
+    frame.set_target(mink.SE3.from_rotation_and_translation(rotation, np.asarray(position, float)))
+    posture = mink.PostureTask(ik.model, cost=float(ik.posture.cost[0]))
+    posture.set_target(ik.home)
+    limits = [
+        mink.ConfigurationLimit(ik.model),
+        mink.VelocityLimit(ik.model, dict(zip(ARM_JOINTS, VELOCITY_LIMIT, strict=True))),
+    ]
+    try:
+        velocity = mink.solve_ik(
+            configuration, [frame, posture], ik.dt, "daqp", damping=ik.damping, limits=limits
+        )
+    except mink.NoSolutionFound:
+        return q, False, math.inf, math.inf
+    q_new = configuration.integrate(velocity, ik.dt)
+    inside = bool(np.all(q_new >= lower - 1e-6) and np.all(q_new <= upper + 1e-6))
+    q_new = np.clip(q_new, lower, upper)
+    configuration.update(q_new)
+    reached = configuration.get_transform_frame_to_world(TCP_SITE, "site")
+    position_error = float(np.linalg.norm(reached.translation() - position))
+    rotation_error = float(np.linalg.norm((reached.rotation().inverse() @ rotation).log()))
+    ok = (
+        inside
+        and position_error <= ik.position_tolerance
+        and rotation_error <= ik.rotation_tolerance
+    )
+    return q_new, ok, position_error, rotation_error
+
+
+@pytest.mark.parametrize("roll", [0.0, math.pi / 2])
+def test_ik_step_equals_mink_solve_ik(roll):
+    """The in-place QP gives mink.solve_ik's joint targets bit for bit, on random targets from
+    random (partly out-of-range) configurations and along a tracked path that converges."""
+    cfg = load_config()
+    ik = IKController.from_config(cfg, nominal=rolled_nominal(roll))
+    home = np.asarray(cfg.sim.robot.home, float)
+    start, _ = ik.tcp_pose(home)
+    rng = np.random.default_rng(7)
+    cases = [
+        (home + rng.normal(0, 0.3, 7), start + rng.uniform(-0.3, 0.3, 3), rng.uniform(-0.6, 0.6))
+        for _ in range(200)
+    ]
+    q, path = home, []
+    for k in range(60):  # small steps, then holding still: residuals shrink towards zero
+        target = start + np.array([0.1, 0.05, -0.05]) * min(k / 30, 1.0)
+        path.append((q, target, 0.2 * min(k / 30, 1.0)))
+        q = ik.solve(q, target, path[-1][2]).q
+    oks = []
+    for q, target, pitch in cases + path:
+        result = ik.solve(q, target, pitch)
+        q_ref, ok_ref, position_ref, rotation_ref = _mink_reference(ik, q, target, pitch)
+        assert np.array_equal(result.q, q_ref)
+        assert result.ok == ok_ref
+        assert result.position_error == pytest.approx(position_ref, rel=1e-12, abs=1e-15)
+        # the arccos of the trace resolves angles near zero only to ~1e-8 rad
+        assert result.rotation_error == pytest.approx(rotation_ref, abs=3e-8)
+        oks.append(result.ok)
+    assert 0 < sum(oks) < len(oks)  # both outcomes covered
+    assert path and result.ok and result.rotation_error < 1e-3
 
 
 def test_ik_flags_an_unreachable_target():

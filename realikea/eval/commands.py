@@ -31,6 +31,8 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     for group in RUN_GROUPS:
         if group in run_cfg and not any(o.lstrip("+~").startswith(group) for o in overrides):
             merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
+    # the strategy classifier belongs to the evaluation, not to the run
+    merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
     return OmegaConf.create(merged)
 
 
@@ -40,10 +42,10 @@ def run_eval(args: argparse.Namespace) -> int:
     from realikea.pool.env_pool import EnvPool
 
     cfg = load_config(args.overrides)
-    cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
     policy = make_policy(cfg)
     if hasattr(policy, "run_cfg"):
         cfg = effective_config(cfg, policy.run_cfg, args.overrides)
+    cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
     episodes = int(cfg.episodes)
     if episodes < 1:
         raise RealIkeaError(f"episodes={episodes}: use 1 or more")
@@ -61,7 +63,6 @@ def run_eval(args: argparse.Namespace) -> int:
         from realikea.eval.video import record_strategies
         from realikea.tasks.open_task import OpenTask
 
-        cfg.task.contacts.log = True
         paths = training_configurations(cfg, int(cfg.video_episodes), int(cfg.env.seed))
         tasks = [OpenTask(cfg, p, int(cfg.env.seed) + i) for i, p in enumerate(paths)]
         stem = Path(cfg.video_path or "outputs/eval.mp4")

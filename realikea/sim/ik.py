@@ -125,7 +125,7 @@ class IKController:
         self._lower_tol, self._upper_tol = self._lower - 1e-6, self._upper + 1e-6
         self._qp = _ArmQP(self.configuration, self.frame, self.posture, self.limits, dt, damping)
         if solver != "daqp":
-            raise ValueError(f"IKController solves its QP with daqp, got solver={solver!r}")
+            raise RealIkeaError(f"the IK hands its QP to daqp directly, got solver={solver!r}")
         self._target = mink.SE3(wxyz_xyz=np.zeros(7))
         self._target.wxyz_xyz[0] = 1.0
         self.frame.set_target(self._target)
@@ -228,9 +228,12 @@ class _ArmQP:
             and len(config_limit.indices) == nv
             and len(velocity_limit.indices) == nv
             and posture.lm_damping == 0.0
+            and frame.lm_damping == 0.0
+            and frame.gain == 1.0
+            and np.all(frame.cost == 1.0)
             and not np.any(model.jnt_type != mujoco.mjtJoint.mjJNT_HINGE)
         ):
-            raise AssertionError("_ArmQP is built for 7 limited hinge joints and these limits")
+            raise AssertionError("_ArmQP is built for the arm's hinge joints, tasks and limits")
         self.configuration, self.frame, self.posture = configuration, frame, posture
         self.model, self.data = model, configuration.data
         self.dt, self.damping = dt, damping
@@ -251,7 +254,7 @@ class _ArmQP:
         )
         self.blower = np.full(4 * nv, -1e30)
         self.sense = np.zeros(4 * nv, dtype=c_int)
-        self.diagonal = slice(None, None, nv + 1)
+        self.damping_eye = (damping + 0.0) * np.eye(nv)  # mink adds damping + sum of task mu
         self.site = configuration._resolve_frame_id(frame.frame_name, frame.frame_type)
         if frame.frame_type != "site":
             raise AssertionError("_ArmQP's frame task tracks a site")
@@ -265,7 +268,7 @@ class _ArmQP:
         mujoco.mj_comPos(model, data)
         W, e, h = self.W, self.e, self.h
         if _lie is None:
-            W[:6], e[:6], mu = self.frame.compute_qp_residual(self.configuration)
+            W[:6], e[:6], _ = self.frame.compute_qp_residual(self.configuration)
         else:  # FrameTask.compute_qp_residual's native path, without its Python overhead
             site, jacobian, frame = self.site, self.jacobian, self.frame
             xmat = data.site_xmat[site]
@@ -273,15 +276,13 @@ class _ArmQP:
             mujoco.mj_jacSite(model, data, jacobian[:3], jacobian[3:], site)
             body_jacobian = _lie.se3_rotation_adjoint_from_xmat(xmat) @ jacobian
             target = frame.transform_target_to_world.wxyz_xyz
-            error = _lie.se3_rminus(target, pose)
-            task_jacobian = -_lie.se3_jlog(_lie.se3_inverse_multiply(target, pose)) @ body_jacobian
-            e[:6] = frame.cost * (-frame.gain * error)
-            W[:6] = frame.cost[:, None] * task_jacobian
-            mu = frame.lm_damping * float(e[:6] @ e[:6])
+            # unit costs, gain 1 and no LM damping (checked in __init__) weight nothing
+            np.negative(_lie.se3_rminus(target, pose), out=e[:6])
+            W[:6] = -_lie.se3_jlog(_lie.se3_inverse_multiply(target, pose)) @ body_jacobian
         e[6:] = self.posture_scale * (q - self.home)
         H = W.T @ W
+        H += self.damping_eye  # the LM damping on the diagonal (the tasks add no mu)
         c = -(e @ W)
-        H.flat[self.diagonal] += self.damping + mu
         h[:nv] = self.gain * (self.upper - q)
         h[nv : 2 * nv] = self.gain * (q - self.lower)
         x, _, exitflag, _ = daqp.solve(H, c, self.G, h, self.blower, self.sense)
