@@ -100,6 +100,8 @@ class IKController:
         nominal: np.ndarray = NOMINAL_TCP_ROTATION,
         solver: str = "daqp",
     ):
+        if solver != "daqp":
+            raise RealIkeaError(f"the IK hands its QP to daqp directly, got solver={solver!r}")
         spec = mujoco.MjSpec.from_string(robot_xml(_KINEMATIC_GRIPPER, fingers=False))
         spec.body("link0").pos = np.asarray(base_pos, float)
         spec.body("link0").quat = yaw_quat(base_yaw)
@@ -124,8 +126,6 @@ class IKController:
         self._lower, self._upper = self.bounds[:, 0].copy(), self.bounds[:, 1].copy()
         self._lower_tol, self._upper_tol = self._lower - 1e-6, self._upper + 1e-6
         self._qp = _ArmQP(self.configuration, self.frame, self.posture, self.limits, dt, damping)
-        if solver != "daqp":
-            raise RealIkeaError(f"the IK hands its QP to daqp directly, got solver={solver!r}")
         self._target = mink.SE3(wxyz_xyz=np.zeros(7))
         self._target.wxyz_xyz[0] = 1.0
         self.frame.set_target(self._target)
