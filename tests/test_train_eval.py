@@ -53,7 +53,9 @@ def test_eval_prints_fractions_and_a_json_line(run, capsys):
     assert main(["eval", f"policy.path={run_dir / 'model_1.pt'}", *args]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
     summary = json.loads(lines[-1])
-    assert set(summary) == {"episodes", "fail", "partial", "success"}
+    assert set(summary) == {"episodes", "fail", "partial", "success", "strategies"}
+    assert set(summary["strategies"]) == {"hook", "lever", "pinch", "none"}
+    assert sum(summary["strategies"].values()) == pytest.approx(1.0)
     assert summary["episodes"] == 3
     assert summary["fail"] + summary["partial"] + summary["success"] == pytest.approx(1.0)
     assert "| episodes | fail | partial | success |" in lines
@@ -110,3 +112,44 @@ def test_joblib_multirun_over_collision_sources(tmp_path):
     assert out.returncode == 0, out.stderr[-3000:]
     assert (tmp_path / "sweep" / "0" / "model_0.pt").is_file()
     assert (tmp_path / "sweep" / "1" / "model_0.pt").is_file()
+
+
+def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
+    run_dir, library = run
+    args = [f"paths.library={library}", "episodes=2", "env.num_workers=0"]
+    assert main(["eval", "sweep", f"run={run_dir}", *args]) == 0
+    out = capsys.readouterr().out
+    rows = (run_dir / "sweep" / "sweep.csv").read_text().splitlines()
+    assert rows[0].startswith("iteration,success_smooth,return_smooth,")
+    assert [r.split(",")[0] for r in rows[1:]] == ["0", "1"]
+    assert (run_dir / "sweep" / "sweep.png").stat().st_size > 10_000
+    assert "most robust checkpoint: " in out and "**most robust**" in out
+
+
+def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):
+    assert main(["eval", "sweep", f"run={tmp_path}"]) == 2
+    assert "no checkpoints" in capsys.readouterr().err
+
+
+def test_table_writes_the_table2_layout(tmp_path, run, capsys):
+    _, library = run
+    args = [
+        "asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", "env.num_workers=0",
+        "task.episode_seconds=1.5", f"paths.library={library}", "episodes=2",
+        "table.policies=[heuristic_pull]", "table.categories=[two_point]",
+        "table.resistances=[smooth,high]", f"table.out={tmp_path}",
+    ]  # fmt: skip
+    assert main(["eval", "table", *args]) == 0
+    csv_rows = (tmp_path / "table2.csv").read_text().splitlines()
+    assert len(csv_rows) == 3 and "strategy_pinch" in csv_rows[0]
+    markdown = (tmp_path / "table2.md").read_text()
+    assert "## Two-point handles" in markdown
+    assert "| Policy | smooth F | P | S | high F | P | S |" in markdown
+    assert markdown.count("| heuristic_pull |") == 3  # the F/P/S row and two strategy rows
+
+
+def test_table_refuses_checkpoints_and_unknown_policies(capsys):
+    assert main(["eval", "table", "table.policies=[checkpoint]"]) == 2
+    assert "realikea eval sweep" in capsys.readouterr().err
+    assert main(["eval", "policy=nonsense"]) == 2
+    assert "nonsense" in capsys.readouterr().err

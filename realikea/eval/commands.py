@@ -1,4 +1,6 @@
-"""`realikea eval [overrides]`: a policy over episodes, Fail/Partial/Success and a JSON line."""
+"""`realikea eval [table|sweep] [overrides]`: a policy over episodes, Fail/Partial/Success and
+a JSON line; `table` runs the Table 2 grid (realikea/eval/table.py), `sweep run=DIR` every
+checkpoint of a run (realikea/eval/sweep.py)."""
 
 from __future__ import annotations
 
@@ -19,10 +21,23 @@ def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "overrides",
         nargs="*",
-        help="Hydra overrides, e.g. policy=checkpoint policy.path=RUN/model_500.pt "
-        "asset=two_point resistance=high episodes=50 video=true",
+        help="optionally `table` or `sweep` first, then Hydra overrides, e.g. policy=checkpoint "
+        "policy.path=RUN/model_500.pt asset=two_point resistance=high episodes=50 video=true",
     )
-    parser.set_defaults(run=run_eval)
+    parser.set_defaults(run=dispatch)
+
+
+def dispatch(args: argparse.Namespace) -> int:
+    """`eval table ...`, `eval sweep ...` or a plain `eval ...`."""
+    if args.overrides and args.overrides[0] == "table":
+        from realikea.eval.table import run_table
+
+        return run_table(args.overrides[1:])
+    if args.overrides and args.overrides[0] == "sweep":
+        from realikea.eval.sweep import run_sweep
+
+        return run_sweep(args.overrides[1:])
+    return run_eval(args)
 
 
 def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:

@@ -1,0 +1,143 @@
+"""`realikea eval sweep run=DIR`: every checkpoint of a run under the three resistance modes.
+
+The run's asset category and collision source are used unless the command line sets them.
+
+The appendix's policy selection: success and return against iteration per mode, and the most
+robust checkpoint (highest success averaged over the modes; ties broken by the smaller spread
+across modes, then by the mean return). One env pool per mode serves all checkpoints, so every
+checkpoint meets the same configurations and poses.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from realikea.assets.cache import atomic_write_text
+from realikea.config import load_config, repo_path
+from realikea.errors import RealIkeaError
+from realikea.eval.table import to_csv
+
+MODES = ("smooth", "normal", "high")
+
+
+def checkpoints(run: Path) -> list[tuple[int, Path]]:
+    """(iteration, path) of every `model_<it>.pt` in a run directory, by iteration."""
+    found = []
+    for path in run.glob("model_*.pt"):
+        match = re.fullmatch(r"model_(\d+)\.pt", path.name)
+        if match:
+            found.append((int(match.group(1)), path))
+    if not found:
+        raise RealIkeaError(f"{run}: no checkpoints model_<iteration>.pt")
+    return sorted(found)
+
+
+def most_robust(rows: list[dict]) -> dict:
+    """The row (one per checkpoint) with the best mean success, then spread, then return."""
+    return max(rows, key=lambda r: (r["mean_success"], -r["success_spread"], r["mean_return"]))
+
+
+def plot(rows: list[dict], best: dict, path: Path) -> None:
+    """Mean success and mean return against iteration, one line per mode plus their mean."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    its = [r["iteration"] for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for ax, key, label in (
+        (axes[0], "success", "success rate"),
+        (axes[1], "return", "mean return"),
+    ):
+        for mode in MODES:
+            ax.plot(its, [r[f"{key}_{mode}"] for r in rows], marker=".", label=mode)
+        ax.plot(its, [r[f"mean_{key}"] for r in rows], "k--", lw=1.5, label="mean of modes")
+        ax.axvline(best["iteration"], color="grey", lw=0.8, ls=":")
+        ax.set_xlabel("training iteration")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylim(-0.02, 1.02)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"checkpoint sweep: most robust = iteration {best['iteration']}", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp.png")
+    fig.savefig(tmp, dpi=120)
+    plt.close(fig)
+    tmp.replace(path)
+
+
+def run_sweep(overrides: list[str]) -> int:
+    """Evaluate every checkpoint of `run=DIR`; write DIR/sweep/{sweep.csv, sweep.md, sweep.png}."""
+    from realikea.eval.commands import effective_config
+    from realikea.eval.protocol import run_episodes
+    from realikea.policies.checkpoint import CheckpointPolicy, run_config
+    from realikea.pool.env_pool import EnvPool
+
+    runs = [o.split("=", 1)[1] for o in overrides if o.startswith("run=")]
+    if len(runs) != 1:
+        raise RealIkeaError("realikea eval sweep needs exactly one run=DIR (a training run)")
+    run = repo_path(runs[0])
+    rest = [o for o in overrides if not o.startswith("run=")]
+    found = checkpoints(run)
+    run_cfg = run_config(found[0][1])
+    mine = {o.lstrip("+~").split("=")[0].split(".")[0] for o in rest}
+    inherited = []
+    if "collision" not in mine:
+        inherited.append(f"collision={run_cfg.collision.source}")
+    if "asset" not in mine:
+        asset = run_cfg.asset
+        inherited.append(f"asset={asset.category}")
+        inherited += [f"asset.{k}={asset[k]}" for k in ("part", "base", "kind") if asset.get(k)]
+    results: dict[tuple[int, str], tuple[float, float]] = {}
+    for mode in MODES:
+        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"])
+        cfg = effective_config(cfg, run_cfg, rest)
+        cfg.task.contacts.log = False
+        episodes = int(cfg.episodes)
+        cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
+        with EnvPool.from_config(cfg) as pool:
+            for iteration, path in found:
+                print(f"{mode}: iteration {iteration}", flush=True)
+                result = run_episodes(pool, CheckpointPolicy(path), episodes)
+                success = result.summary()["success"]
+                ret = float(np.mean([e.get("episode_return", 0.0) for e in result.episodes]))
+                results[iteration, mode] = (success, ret)
+    rows = []
+    for iteration, _ in found:
+        row = {"iteration": iteration}
+        for mode in MODES:
+            row[f"success_{mode}"], row[f"return_{mode}"] = results[iteration, mode]
+        successes = [row[f"success_{m}"] for m in MODES]
+        row["mean_success"] = float(np.mean(successes))
+        row["success_spread"] = float(np.ptp(successes))
+        row["mean_return"] = float(np.mean([row[f"return_{m}"] for m in MODES]))
+        rows.append(row)
+    best = most_robust(rows)
+    out = run / "sweep"
+    out.mkdir(exist_ok=True)
+    atomic_write_text(out / "sweep.csv", to_csv(rows))
+    plot(rows, best, out / "sweep.png")
+    lines = [
+        f"# Checkpoint sweep of {run}",
+        "",
+        f"{episodes} episodes per checkpoint and mode; asset={cfg.asset.category} "
+        f"(kind {cfg.asset.kind}) "
+        f"collision={cfg.collision.source}, env.seed={cfg.env.seed}.",
+        "",
+        "| iteration | " + " | ".join(f"S {m}" for m in MODES) + " | mean S | mean return |",
+        "|---:|" + "---:|" * (len(MODES) + 2),
+    ]
+    for r in rows:
+        cells = " | ".join(f"{r[f'success_{m}']:.2f}" for m in MODES)
+        mark = " **most robust**" if r is best else ""
+        mean = f"{r['mean_success']:.2f} | {r['mean_return']:.0f}"
+        lines.append(f"| {r['iteration']}{mark} | {cells} | {mean} |")
+    atomic_write_text(out / "sweep.md", "\n".join(lines) + "\n")
+    print("\n".join(lines))
+    print(f"most robust checkpoint: {found[[i for i, _ in found].index(best['iteration'])][1]}")
+    return 0
