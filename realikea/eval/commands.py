@@ -60,7 +60,11 @@ def run_eval(args: argparse.Namespace) -> int:
     policy = make_policy(cfg)
     if hasattr(policy, "run_cfg"):
         cfg = effective_config(cfg, policy.run_cfg, args.overrides)
+    if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
+        cfg = policy.configure(cfg, args.overrides)
     cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
+    if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
+        return int(policy.run_interactive(cfg, args.overrides))
     episodes = int(cfg.episodes)
     if episodes < 1:
         raise RealIkeaError(f"episodes={episodes}: use 1 or more")
