@@ -35,6 +35,7 @@ PREFIX = "cabinet/"
 FRONT_JOINT = PREFIX + "front_joint"
 HANDLE_SITE = PREFIX + "handle"
 FRONT_BODY = PREFIX + "front"
+PART_BODY = PREFIX + "part"
 CABINET_ROOT = PREFIX + "unit"
 __all__ = [
     "ARM_ACTUATORS",
@@ -42,6 +43,7 @@ __all__ = [
     "CABINET_ROOT",
     "FINGER_JOINTS",
     "FRONT_BODY",
+    "PART_BODY",
     "FRONT_JOINT",
     "GRIPPER_ACTUATOR",
     "HANDLE_SITE",
@@ -114,8 +116,9 @@ def _skeleton(cfg: DictConfig) -> mujoco.MjSpec:
     return spec
 
 
-def _plinth(spec: mujoco.MjSpec, cabinet: mujoco.MjSpec, height: float) -> None:
-    """A static box under the carcass (the cabinet's legs and kick plate), if it is raised."""
+def _plinth(cabinet: mujoco.MjSpec, height: float) -> None:
+    """A box under the carcass (the cabinet's legs and kick plate), if it is raised; part of the
+    cabinet's root body, so base pose randomization moves it with the carcass."""
     if height <= 0:
         return
     bottom = cabinet.geom("carcass_bottom")
@@ -123,9 +126,9 @@ def _plinth(spec: mujoco.MjSpec, cabinet: mujoco.MjSpec, height: float) -> None:
     if bottom is None or side is None:
         raise RealIkeaError("the configuration has no carcass_bottom / carcass_side_left geom")
     half = [float(bottom.size[0]), abs(float(side.pos[1])) + float(side.size[1]), height / 2]
-    spec.worldbody.add_geom(
+    cabinet.body(CABINET_ROOT.removeprefix(PREFIX)).add_geom(
         name="plinth", type=mujoco.mjtGeom.mjGEOM_BOX, size=half,
-        pos=[float(bottom.pos[0]), 0.0, height / 2], rgba=[0.3, 0.3, 0.3, 1],
+        pos=[float(bottom.pos[0]), 0.0, -height / 2], rgba=[0.3, 0.3, 0.3, 1],
     )  # fmt: skip
 
 
@@ -155,7 +158,7 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
         cabinet.delete(light)
     plinth = cfg.sim.cabinet.plinth_height  # one height, or one per base kind
     height = float(plinth[base_kind(cabinet)] if isinstance(plinth, DictConfig) else plinth)
-    _plinth(spec, cabinet, height)
+    _plinth(cabinet, height)
     frame = spec.worldbody.add_frame(pos=[0.0, 0.0, height])
     spec.attach(cabinet, prefix=PREFIX, frame=frame)
     joint = spec.joint(FRONT_JOINT)

@@ -15,7 +15,6 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.catalog import Catalog
-from realikea.assets.workflow.assembly import mount_pose
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY, GripperModel
@@ -24,10 +23,10 @@ from realikea.sim.scene import (
     ARM_JOINTS,
     CABINET_ROOT,
     FINGER_JOINTS,
-    FRONT_BODY,
     FRONT_JOINT,
     GRIPPER_ACTUATOR,
     HANDLE_SITE,
+    PART_BODY,
     TCP_SITE,
     build_scene,
     reset_home,
@@ -132,10 +131,10 @@ class OpenTask:
         self._tcp, self._handle = m.site(TCP_SITE).id, m.site(HANDLE_SITE).id
         self._base = m.body("link0").id
         parts = [i for i in range(m.ngeom) if m.geom(i).name.startswith("cabinet/part_")]
-        self.perturb = PosePerturbation(m, parts, self._handle, m.body(CABINET_ROOT).id)
+        self._part = m.body(PART_BODY).id
+        self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
-        self._front = m.body(FRONT_BODY).id
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
         contacts = task.contacts
         self.classifier = ClassifierParams(
@@ -153,13 +152,13 @@ class OpenTask:
 
     @property
     def aperture(self) -> float:
-        return float(np.sum(self.data.qpos[self._finger_q]) / (2 * self.gripper.stroke))
+        return float(np.add.reduce(self.data.qpos[self._finger_q]) / (2 * self.gripper.stroke))
 
     def _targets(self) -> tuple[float, float]:
-        tcp, handle = self.data.site_xpos[self._tcp], self.data.site_xpos[self._handle]
-        return float(np.linalg.norm(tcp - handle - self.o1)), float(
-            np.linalg.norm(tcp - handle - self.o2)
-        )
+        """Distances of the TCP to the targets t1, t2 (np.linalg.norm's arithmetic, in floats)."""
+        rel = self.data.site_xpos[self._tcp] - self.data.site_xpos[self._handle]
+        e1, e2 = rel - self.o1, rel - self.o2
+        return math.sqrt(e1.dot(e1)), math.sqrt(e2.dot(e2))
 
     def pull_direction(self) -> np.ndarray:
         """Unit world direction the handle moves in as the front opens (the joint's Jacobian)."""
@@ -171,11 +170,6 @@ class OpenTask:
     def facts(self) -> SceneFacts:
         """The scene of the current episode for scripted policies (privileged, world frame)."""
         m, d = self.model, self.data
-        mount, quat = mount_pose(self.base)
-        shift = m.site_pos[self._handle] - self.perturb.site_pos  # the handle's randomization
-        front_rot = d.xmat[self._front].reshape(3, 3)
-        local = np.empty(9)
-        mujoco.mju_quat2Mat(local, quat)
         anchor = axis = None
         if self.joint_type == "hinge":
             front = m.joint(FRONT_JOINT).id
@@ -188,8 +182,8 @@ class OpenTask:
             joint_type=self.joint_type,
             robot_base=d.xpos[self._base].copy(),
             handle_pos=d.site_xpos[self._handle].copy(),
-            part_pos=d.xpos[self._front] + front_rot @ (mount + shift),
-            part_rot=front_rot @ local.reshape(3, 3),
+            part_pos=d.xpos[self._part].copy(),
+            part_rot=d.xmat[self._part].reshape(3, 3).copy(),
             pull_dir=self.pull_direction(),
             hinge_anchor=anchor,
             hinge_axis=axis,
@@ -202,6 +196,7 @@ class OpenTask:
 
     def observe(self) -> np.ndarray:
         d = self.data
+        aperture = self.aperture
         return observations.observation(
             d.site_xpos[self._tcp],
             d.site_xmat[self._tcp].reshape(3, 3),
@@ -209,8 +204,8 @@ class OpenTask:
             d.xpos[self._base],
             self.opening,
             float(d.qvel[self._front_v]),
-            self.aperture,
-            self.aperture < self.params.close_below,
+            aperture,
+            aperture < self.params.close_below,
             self.state.prev_action,
             self.state.stage,
         )
@@ -230,14 +225,16 @@ class OpenTask:
     def apply_action(self, action) -> bool:
         """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""
         action = np.asarray(action, dtype=np.float64)
-        if action.shape != (ACTION_SIZE,) or not np.all(np.isfinite(action)):
+        if action.shape != (ACTION_SIZE,) or not np.isfinite(action).all():
             raise RealIkeaError(f"action must be 5 finite numbers, got {action!r}")
-        a = np.clip(action, -1.0, 1.0)
+        # np.clip's values without its per-call overhead (the hot path runs once per env-step)
+        a = np.minimum(np.maximum(action, -1.0), 1.0)
         d = self.data
         below, above = self.workspace
         tcp = d.site_xpos[self._tcp]
         target = tcp + self.translation_scale * a[1:4]
-        target = np.clip(target, self._nominal_handle + below, self._nominal_handle + above)
+        handle = self._nominal_handle
+        target = np.minimum(np.maximum(target, handle + below), handle + above)
         pitch = (
             tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3), self.nominal) + self.pitch_scale * a[0]
         )
@@ -265,8 +262,9 @@ class OpenTask:
 
     def diverged(self) -> bool:
         """NaN state or MuJoCo's own instability warning."""
-        bad = any(self.data.warning[w].number > 0 for w in INSTABILITY_WARNINGS)
-        return bool(bad or not np.all(np.isfinite(self.data.qpos)))
+        number = self.data.warning.number
+        bad = any(number[w] > 0 for w in INSTABILITY_WARNINGS)
+        return bool(bad or not np.isfinite(self.data.qpos).all())
 
     def evaluate(self, ik_ok: bool) -> StepResult:
         """Reward, terminations and info after the physics of a control step."""
@@ -274,14 +272,19 @@ class OpenTask:
         s.steps += 1
         diverged = self.diverged()
         d1, d2 = self._targets()
-        s.stage = int(next_stage(s.stage, d1, d2, self.aperture, p))
-        reward = float(staged_reward(s.stage, d1, d2, self.aperture, self.opening, p))
-        reward += float(jerk_penalty(a, s.prev_action, s.prev_prev_action, p.w_jerk))
+        aperture, opening = self.aperture, self.opening
+        s.stage = next_stage(s.stage, d1, d2, aperture, p)
+        reward = staged_reward(s.stage, d1, d2, aperture, opening, p)
+        reward += jerk_penalty(
+            a.tolist(), s.prev_action.tolist(), s.prev_prev_action.tolist(), p.w_jerk
+        )
         reward -= 0.0 if ik_ok else p.ik_cost
         s.ik_failures = 0 if ik_ok else s.ik_failures + 1
         term = self.terminations
-        moved = float(np.linalg.norm(self.data.site_xpos[self._tcp] - self._tcp_before))
-        commanded = float(np.linalg.norm(a[1:4])) > term.stagnation_command
+        step = self.data.site_xpos[self._tcp] - self._tcp_before
+        moved = math.sqrt(step.dot(step))  # np.linalg.norm's arithmetic
+        command = a[1:4]
+        commanded = math.sqrt(command.dot(command)) > term.stagnation_command
         s.stagnant = s.stagnant + 1 if commanded and moved < term.stagnation_motion else 0
         s.prev_prev_action, s.prev_action = s.prev_action, a
         if diverged:
@@ -294,9 +297,9 @@ class OpenTask:
         }
         terminated = any(reasons.values())
         truncated = not terminated and s.steps >= self.horizon
-        info = {"opening": self.opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
+        info = {"opening": opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
         if terminated or truncated:
-            info["outcome"] = str(outcome(self.opening, self.joint_type, self.outcome_thresholds))
+            info["outcome"] = str(outcome(opening, self.joint_type, self.outcome_thresholds))
             info["episode_return"] = s.episode_return
             info["episode_steps"] = s.steps
             info["termination"] = next((k for k, v in reasons.items() if v), "timeout")

@@ -43,17 +43,15 @@ class Randomization:
 
 
 class PosePerturbation:
-    """Applies sampled offsets to one compiled scene, always relative to its nominal poses."""
+    """Applies sampled offsets to one compiled scene, always relative to its nominal poses.
 
-    def __init__(self, model: mujoco.MjModel, part_geoms: list[int], handle_site: int, root: int):
-        self.model, self.part_geoms, self.handle_site, self.root = (
-            model,
-            part_geoms,
-            handle_site,
-            root,
-        )
-        self.geom_pos = model.geom_pos[part_geoms].copy()
-        self.site_pos = model.site_pos[handle_site].copy()
+    The handle offset moves the part's own body (welded to the front, see the assembly step),
+    so its geoms, their collision bounds and the handle site move together.
+    """
+
+    def __init__(self, model: mujoco.MjModel, part_body: int, root: int):
+        self.model, self.part_body, self.root = model, part_body, root
+        self.part_pos = model.body_pos[part_body].copy()
         self.root_pos = model.body_pos[root].copy()
         self.root_quat = model.body_quat[root].copy()
 
@@ -62,8 +60,7 @@ class PosePerturbation:
         handle = np.zeros(3) if rng is None else rng.uniform(-1, 1, 3) * bounds.handle_pos
         base = np.zeros(3) if rng is None else rng.uniform(-1, 1, 3) * bounds.base_pos
         yaw = 0.0 if rng is None else rng.uniform(-1, 1) * bounds.base_yaw
-        self.model.geom_pos[self.part_geoms] = self.geom_pos + handle
-        self.model.site_pos[self.handle_site] = self.site_pos + handle
+        self.model.body_pos[self.part_body] = self.part_pos + handle
         self.model.body_pos[self.root] = self.root_pos + base
         turn = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
         quat = np.empty(4)

@@ -85,6 +85,8 @@ class Body:
     joint: Joint | None = None
     pos: tuple[float, ...] = (0.0, 0.0, 0.0)
     sites: list[Site] = field(default_factory=list)
+    quat: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)
+    children: list[Body] = field(default_factory=list)  # welded to this body (no joint)
 
 
 @dataclass(frozen=True)
@@ -200,7 +202,6 @@ def assemble(
         ),
     ]
     pos, quat = mount_pose(base)
-    mounted = dict(pos=tuple(pos), quat=tuple(quat))
     part_geoms = [
         Geom(
             "part_visual",
@@ -208,7 +209,6 @@ def assemble(
             collides=False,
             density=PART_DENSITY[part.friction],
             rgba=PART_RGBA,
-            **mounted,
         ),
         *(
             Geom(
@@ -216,15 +216,17 @@ def assemble(
                 mesh=name,
                 friction=part.friction_coefficient,
                 rgba=COLLISION_RGBA,
-                **mounted,
             )
             for i, name in enumerate(collision_meshes)
         ),
     ]
+    # the part is its own body in the part frame, welded to the front: moving it (pose
+    # randomization) moves its geoms, their collision bounds and the handle site together
+    mounted = Body(
+        "part", part_geoms, pos=tuple(pos), quat=tuple(quat), sites=[Site("handle", tuple(handle))]
+    )
     trays = drawer_tray(base) if base.kind == "drawer" else []
-    rot = Rotation.from_quat(np.roll(quat, -1))
-    sites = [Site("handle", tuple(pos + rot.apply(handle)), tuple(quat))]
     joint = front_joint(base, damping, frictionloss)
-    moving = Body("front", front + trays + part_geoms, joint, sites=sites)
+    moving = Body("front", front + trays, joint, children=[mounted])
     meshes = {"part_visual": visual_mesh, **collision_meshes}
     return Assembly(f"{part.id}__{base.id}", [carcass(base), moving], meshes)

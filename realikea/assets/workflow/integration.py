@@ -41,7 +41,7 @@ def mjcf_text(assembly: Assembly, root_name: str = "unit") -> str:
 
 
 def _body(parent: ET.Element, body: Body) -> None:
-    node = ET.SubElement(parent, "body", name=body.name, pos=_fmt(body.pos))
+    node = ET.SubElement(parent, "body", name=body.name, pos=_fmt(body.pos), quat=_fmt(body.quat))
     if body.joint is not None:
         j = body.joint
         ET.SubElement(
@@ -61,6 +61,8 @@ def _body(parent: ET.Element, body: Body) -> None:
         _geom(node, geom)
     for site in body.sites:
         ET.SubElement(node, "site", name=site.name, pos=_fmt(site.pos), quat=_fmt(site.quat))
+    for child in body.children:
+        _body(node, child)
 
 
 def _geom(parent: ET.Element, g: Geom) -> None:

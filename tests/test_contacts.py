@@ -1,0 +1,110 @@
+"""Scene facts, the hand's per-configuration roll and the contact-force strategy classifier."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from realikea.assets.library import training_configurations
+from realikea.config import load_config
+from realikea.policies.heuristic_pull import HeuristicPull
+from realikea.sim.ik import tcp_pitch
+from realikea.tasks.contacts import ClassifierParams, ContactLog, strategy
+from realikea.tasks.open_task import OpenTask
+
+PARAMS = ClassifierParams(
+    min_opening_rate=0.01, min_pull=0.2, min_samples=10, sample_substeps=5, friction_share=0.5
+)
+
+
+def test_labels_follow_the_force_that_carries_the_pull():
+    assert strategy(50, 0.9, "two_point", PARAMS) == "pinch"
+    assert strategy(50, 0.9, "knob", PARAMS) == "pinch"
+    assert strategy(50, 0.1, "two_point", PARAMS) == "hook"
+    assert strategy(50, 0.1, "finger_pull", PARAMS) == "hook"
+    assert strategy(50, 0.1, "knob", PARAMS) == "lever"
+    assert strategy(9, 0.1, "two_point", PARAMS) == "none"  # too short a pulling phase
+
+
+def test_summary_shares_and_means():
+    log = ContactLog(samples=20, normal=30.0, friction=90.0, grip=400.0)
+    summary = log.summary("two_point", PARAMS, period=0.01)
+    assert summary["friction_share"] == pytest.approx(0.75)
+    assert summary["pull_seconds"] == pytest.approx(0.2)
+    assert summary["grip_force"] == pytest.approx(20.0)
+    assert summary["strategy"] == "pinch"
+    # friction pulling backwards does not make the normal forces' share larger than all
+    assert ContactLog(samples=20, normal=30.0, friction=-5.0).summary("knob", PARAMS, 0.01)[
+        "friction_share"
+    ] == pytest.approx(0.0)
+
+
+def _task(library, part: str, base: str, *extra: str) -> OpenTask:
+    overrides = [f"asset.part={part}", f"asset.base={base}", "dr=randomized", "resistance=smooth"]
+    cfg = load_config([*overrides, f"paths.library={library}", "task.contacts.log=true", *extra])
+    (mjcf,) = training_configurations(cfg, 1)
+    return OpenTask(cfg, mjcf, seed=3)
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    return tmp_path_factory.mktemp("library")
+
+
+def test_facts_place_the_part_frame_under_the_randomized_handle(library):
+    task = _task(library, "tp_round_bar_128", "drawer_w60_h20")
+    task.iteration = 10**6
+    for _ in range(3):
+        task.reset()
+        facts = task.facts()
+        local = facts.to_part(facts.handle_pos)
+        assert local[:2] == pytest.approx([0.0, 0.0], abs=1e-9)  # the handle sits on the z axis
+        assert local[2] > 0.0  # in front of the mount plane
+        assert facts.to_world(local) == pytest.approx(facts.handle_pos)
+        assert facts.pull_dir == pytest.approx(facts.part_rot[:, 2], abs=1e-9)  # out of the front
+        assert facts.category == "two_point" and facts.joint_type == "slide"
+        assert facts.hinge_axis is None
+
+
+def test_door_hand_is_rolled_so_the_jaws_close_across_the_vertical_bar(library):
+    task = _task(library, "tp_round_bar_128", "door_right_w60_h80")
+    task.reset()
+    facts = task.facts()
+    rotation = task.data.site_xmat[task._tcp].reshape(3, 3)
+    jaw_axis, bar_axis = rotation[:, 1], facts.part_rot[:, 0]
+    assert abs(jaw_axis @ bar_axis) < 0.05  # jaws close across the bar
+    assert abs(bar_axis[2]) > 0.99  # the bar is vertical on a door
+    assert tcp_pitch(rotation, facts.tcp_nominal) == pytest.approx(0.0, abs=0.02)
+    # opening direction: perpendicular to the hinge axis and to the lever arm
+    arm = facts.handle_pos - facts.hinge_anchor
+    assert abs(facts.pull_dir @ facts.hinge_axis) < 1e-9
+    assert abs(facts.pull_dir @ arm) < 1e-9
+
+
+def test_a_pinch_pull_is_classified_pinch(library):
+    task = _task(library, "tp_round_bar_128", "drawer_w60_h20")
+    policy = HeuristicPull()
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    while True:
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            break
+    info = result.info
+    assert info["outcome"] == "success"
+    assert info["strategy"] == "pinch"
+    assert info["friction_share"] > 0.9
+    assert info["normal_angle_deg"] > 60  # jaw normals across the pull
+    assert 0 < info["peak_slip_ratio"] < 1  # it held
+
+
+def test_logging_contacts_does_not_change_the_physics(library):
+    trajectories = []
+    for log in ("true", "false"):
+        task = _task(library, "tp_round_bar_128", "drawer_w60_h20", f"task.contacts.log={log}")
+        rng = np.random.default_rng(0)
+        task.reset()
+        states = [task.step(rng.uniform(-1, 1, 5)).obs for _ in range(10)]
+        trajectories.append(np.array(states))
+    np.testing.assert_array_equal(trajectories[0], trajectories[1])
