@@ -32,8 +32,7 @@ def test_open_reward_formula():
     assert open_reward(0.0, 15) == 0.0
     assert open_reward(0.2, 15) == pytest.approx(15 * np.log(21))
     assert open_reward(-0.01, 15) == 0.0  # a front pushed shut earns nothing, never negative
-    q = np.linspace(0, 0.5, 200)
-    slope = np.diff(open_reward(q, 15))
+    slope = np.diff([open_reward(q, 15) for q in np.linspace(0, 0.5, 200)])
     assert np.all(slope > 0) and np.all(np.diff(slope) < 0)  # increasing, diminishing
 
 
@@ -55,25 +54,32 @@ def test_reward_is_continuous_at_the_stage_boundaries_it_is_reached_from():
     )
 
 
-def test_stage_progression_is_latched_and_gated_on_closure():
-    stage = np.array([1, 1, 2, 3, 3, 4])
-    d1 = np.array([0.04, 0.2, 0.2, 0.2, 0.01, 0.5])
-    d2 = np.array([0.3, 0.3, 0.01, 0.01, 0.01, 0.5])
-    w = np.array([1.0, 1.0, 1.0, 1.0, 0.1, 1.0])
-    assert next_stage(stage, d1, d2, w, P).tolist() == [2, 1, 3, 3, 4, 4]
-    # stage 1 -> 4 in one step when every condition holds at once
-    assert next_stage(1, 0.0, 0.0, 0.0, P) == 4
+@pytest.mark.parametrize(
+    ("stage", "d1", "d2", "aperture", "expected"),
+    [
+        (1, 0.04, 0.3, 1.0, 2),  # within tau1 of t1
+        (1, 0.2, 0.3, 1.0, 1),
+        (2, 0.2, 0.01, 1.0, 3),  # within tau2 of t2
+        (3, 0.2, 0.01, 1.0, 3),  # jaws still open
+        (3, 0.01, 0.01, 0.1, 4),  # closed there
+        (4, 0.5, 0.5, 1.0, 4),  # never left
+        (1, 0.0, 0.0, 0.0, 4),  # 1 -> 4 in one step when every condition holds at once
+    ],
+)
+def test_stage_progression_is_latched_and_gated_on_closure(stage, d1, d2, aperture, expected):
+    assert next_stage(stage, d1, d2, aperture, P) == expected
 
 
-def test_stage_reward_vectorises_over_environments():
-    r = staged_reward(np.array([1, 2, 3, 4]), 0.1, 0.1, 0.5, 0.1, P)
-    assert r.shape == (4,) and np.all(np.diff(r) > 0)
+def test_stage_rewards_are_plain_floats_rising_with_the_stage():
+    r = [staged_reward(stage, 0.1, 0.1, 0.5, 0.1, P) for stage in (1, 2, 3, 4)]
+    assert all(type(x) is float for x in r) and np.all(np.diff(r) > 0)
 
 
 def test_jerk_penalty():
-    a = np.array([[1.0, 0, 0, 0, 0]])
+    a = [1.0, 0.0, 0.0, 0.0, 0.0]
     assert jerk_penalty(a, a, a, 0.1) == 0.0
-    assert jerk_penalty(a, 0 * a, a, 0.1) == pytest.approx(-0.1 * 4)
+    assert jerk_penalty(a, [0.0] * 5, a, 0.1) == pytest.approx(-0.1 * 4)
+    assert jerk_penalty([0.0, 1.0, 0, 0, 0], [0.0] * 5, [0.0, -1.0, 0, 0, 0], 0.1) == 0.0
 
 
 def test_outcome_thresholds():

@@ -41,19 +41,26 @@ def observation(
     prev_action,
     stage,
 ) -> np.ndarray:
-    """Concatenate the terms of LAYOUT (all for one environment)."""
-    one_hot = np.zeros(4)
+    """Concatenate the terms of LAYOUT (all for one environment).
+
+    Assembled from Python floats into one array: a vector op per term would cost more in numpy's
+    per-call overhead than the arithmetic (this runs once per env and control step).
+    """
+    tx, ty, tz = np.asarray(tcp_pos).tolist()
+    hx, hy, hz = np.asarray(handle_pos).tolist()
+    bx, by, bz = np.asarray(base_pos).tolist()
+    (r00, r01, _), (r10, r11, _), (r20, r21, _) = np.asarray(tcp_rot).tolist()
+    one_hot = [0.0, 0.0, 0.0, 0.0]
     one_hot[int(stage) - 1] = 1.0
-    terms = (
-        np.asarray(tcp_pos) - base_pos,
-        np.asarray(tcp_rot)[:, :2].T.ravel(),
-        np.asarray(handle_pos) - base_pos,
-        np.asarray(handle_pos) - np.asarray(tcp_pos),
-        [opening],
-        [opening_vel],
-        [aperture],
-        [float(closed)],
-        prev_action,
-        one_hot,
-    )
-    return np.concatenate([np.asarray(t, dtype=np.float64).ravel() for t in terms])
+    return np.array(
+        [
+            tx - bx, ty - by, tz - bz,  # tcp_pos
+            r00, r10, r20, r01, r11, r21,  # tcp_rot6d: columns 0 and 1
+            hx - bx, hy - by, hz - bz,  # handle_pos
+            hx - tx, hy - ty, hz - tz,  # handle_from_tcp
+            opening, opening_vel, aperture, float(closed),
+            *np.asarray(prev_action).tolist(),
+            *one_hot,
+        ],
+        dtype=np.float64,
+    )  # fmt: skip

@@ -3,13 +3,17 @@
 Stage 1 approaches a pre-grasp target t1 with the jaws open, stage 2 refines towards t2,
 stage 3 closes the jaws, stage 4 rewards opening. Each stage adds the maximum of the ones
 before it (M1, M2, beta), so the reward never drops when a stage is reached.
+
+All functions take and return plain Python numbers for one environment: the task evaluates them
+once per env and control step, where numpy's per-call overhead on scalars would cost more than
+the arithmetic.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-
-import numpy as np
+from functools import cached_property
 
 
 @dataclass(frozen=True)
@@ -30,50 +34,57 @@ class RewardParams:
     w_jerk: float = 0.05
     ik_cost: float = 1.0
 
-    @property
+    @cached_property
     def m1(self) -> float:
         """Saturation of stage 1: open bonus plus the approach term at d1 = 0."""
-        return self.w_open1 + self.w_app1 * np.log(1.0 / self.eps)
+        return self.w_open1 + self.w_app1 * math.log(1.0 / self.eps)
 
-    @property
+    @cached_property
     def m2(self) -> float:
         """Saturation of stage 2: approach term at d2 = 0 (no open bonus)."""
-        return self.w_open2 + self.w_app2 * np.log(1.0 / self.eps)
+        return self.w_open2 + self.w_app2 * math.log(1.0 / self.eps)
 
 
-def approach(d, weight: float, eps: float):
+def approach(d: float, weight: float, eps: float) -> float:
     """The logarithmic approach shaping w * (-log(d + eps))."""
-    return weight * -np.log(np.asarray(d) + eps)
+    return weight * -math.log(d + eps)
 
 
-def open_reward(q, kappa: float):
+def open_reward(q: float, kappa: float) -> float:
     """kappa * log(100 q + 1): steep at q = 0 to reward breaking static friction."""
-    return kappa * np.log(100.0 * np.maximum(np.asarray(q), 0.0) + 1.0)
+    return kappa * math.log(100.0 * max(q, 0.0) + 1.0)
 
 
-def staged_reward(stage, d1, d2, aperture, q, p: RewardParams):
-    """The reward of the active stage (1-4); all arguments broadcast over environments."""
-    stage = np.asarray(stage)
-    s_open = (np.asarray(aperture) > p.open_above).astype(float)
-    s_close = (np.asarray(aperture) < p.close_below).astype(float)
-    r1 = p.w_open1 * s_open + approach(d1, p.w_app1, p.eps)
-    r2 = p.m1 + p.w_open2 * s_open + approach(d2, p.w_app2, p.eps)
-    r3 = p.m1 + p.m2 + p.beta * s_close
-    r4 = open_reward(q, p.kappa) + p.m1 + p.m2 + p.beta
-    return np.select([stage == 1, stage == 2, stage == 3], [r1, r2, r3], r4)
+def staged_reward(stage: int, d1: float, d2: float, aperture: float, q: float, p: RewardParams):
+    """The reward of the active stage (1-4)."""
+    if stage == 1:
+        s_open = 1.0 if aperture > p.open_above else 0.0
+        return p.w_open1 * s_open + approach(d1, p.w_app1, p.eps)
+    if stage == 2:
+        s_open = 1.0 if aperture > p.open_above else 0.0
+        return p.m1 + p.w_open2 * s_open + approach(d2, p.w_app2, p.eps)
+    if stage == 3:
+        s_close = 1.0 if aperture < p.close_below else 0.0
+        return p.m1 + p.m2 + p.beta * s_close
+    return open_reward(q, p.kappa) + p.m1 + p.m2 + p.beta
 
 
-def next_stage(stage, d1, d2, aperture, p: RewardParams):
+def next_stage(stage: int, d1: float, d2: float, aperture: float, p: RewardParams) -> int:
     """Latched stage progress: 1 -> 2 within tau1 of t1, 2 -> 3 within tau2 of t2,
     3 -> 4 once the jaws are closed there (grasp readiness); a stage is never left."""
-    stage = np.asarray(stage)
-    closed = np.asarray(aperture) < p.close_below
-    stage = np.where((stage == 1) & (np.asarray(d1) < p.tau1), 2, stage)
-    stage = np.where((stage == 2) & (np.asarray(d2) < p.tau2), 3, stage)
-    return np.where((stage == 3) & closed & (np.asarray(d2) < p.tau2), 4, stage)
+    if stage == 1 and d1 < p.tau1:
+        stage = 2
+    if stage == 2 and d2 < p.tau2:
+        stage = 3
+    if stage == 3 and aperture < p.close_below and d2 < p.tau2:
+        stage = 4
+    return stage
 
 
-def jerk_penalty(action, previous, before_previous, weight: float):
-    """-w * ||a_t - 2 a_{t-1} + a_{t-2}||^2: discourages jerky commands."""
-    second_difference = np.asarray(action) - 2 * np.asarray(previous) + np.asarray(before_previous)
-    return -weight * np.sum(second_difference**2, axis=-1)
+def jerk_penalty(action, previous, before_previous, weight: float) -> float:
+    """-w * ||a_t - 2 a_{t-1} + a_{t-2}||^2 (sequences of floats): discourages jerky commands."""
+    total = 0.0
+    for a, b, c in zip(action, previous, before_previous, strict=True):
+        second_difference = a - 2.0 * b + c
+        total += second_difference * second_difference
+    return -weight * total
