@@ -187,6 +187,12 @@ def config_key(
     )
 
 
+def is_current(folder: Path, key: str) -> bool:
+    """Whether a configuration folder was built with exactly this key."""
+    record = folder / "build.json"
+    return record.is_file() and json.loads(record.read_text()).get("key") == key
+
+
 def write_configuration(
     config: Configuration,
     meshes: PartMeshes,
@@ -198,8 +204,7 @@ def write_configuration(
     """Steps 5-6 for one configuration into `out_dir/<config id>/`; False if already current."""
     folder = out_dir / config.id
     key = config_key(config, meshes, resistance, settings, sources)
-    record = folder / "build.json"
-    if record.is_file() and json.loads(record.read_text()).get("key") == key:
+    if is_current(folder, key):
         return False
     row = {
         "config_id": config.id,
@@ -251,10 +256,18 @@ def build_parts(
 ) -> tuple[dict[str, PartMeshes], int]:
     """Steps 1-4 for many parts in parallel; returns their meshes by id and how many were built."""
     parts = list({p.id: p for p in parts}.values())
+    folders = {p.id: cache_root / "parts" / f"{p.id}-{part_key(p, settings)}" for p in parts}
+    found = {pid: PartMeshes.from_folder(f) for pid, f in folders.items() if f.is_dir()}
+    missing = [p for p in parts if p.id not in found]
+    if not missing:  # no worker processes to start when everything is cached
+        return found, 0
     with _pool(workers) as pool:
-        jobs = pool.map(ensure_part, parts, [settings] * len(parts), [cache_root] * len(parts))
-        done = list(tqdm(jobs, total=len(parts), desc="parts (steps 1-4)", disable=not progress))
-    return {pid: meshes for pid, meshes, _ in done}, sum(built for *_, built in done)
+        jobs = pool.map(
+            ensure_part, missing, [settings] * len(missing), [cache_root] * len(missing)
+        )
+        done = list(tqdm(jobs, total=len(missing), desc="parts (steps 1-4)", disable=not progress))
+    found.update({pid: meshes for pid, meshes, _ in done})
+    return found, sum(built for *_, built in done)
 
 
 def build_library(
@@ -268,26 +281,36 @@ def build_library(
     progress: bool = True,
 ) -> BuildReport:
     """Build configurations in parallel (parts first, then assembly) and rewrite index.csv."""
-    configs = list(configs)
+    configs = list({c.id: c for c in configs}.values())
     meshes, parts_built = build_parts(
         (c.part for c in configs), settings, cache_root, workers, progress
     )
-    with _pool(workers) as pool:
-        jobs = pool.map(
-            write_configuration,
-            configs,
-            [meshes[c.part.id] for c in configs],
-            [resistance] * len(configs),
-            [settings] * len(configs),
-            [sources] * len(configs),
-            [out_dir] * len(configs),
-            chunksize=8,
+    stale = [
+        c
+        for c in configs
+        if not is_current(
+            out_dir / c.id, config_key(c, meshes[c.part.id], resistance, settings, sources)
         )
-        desc = "configurations (steps 5-6)"
-        built = list(tqdm(jobs, total=len(configs), desc=desc, disable=not progress))
+    ]
+    if stale:
+        with _pool(workers) as pool:
+            jobs = pool.map(
+                write_configuration,
+                stale,
+                [meshes[c.part.id] for c in stale],
+                [resistance] * len(stale),
+                [settings] * len(stale),
+                [sources] * len(stale),
+                [out_dir] * len(stale),
+                chunksize=8,
+            )
+            desc = "configurations (steps 5-6)"
+            list(tqdm(jobs, total=len(stale), desc=desc, disable=not progress))
     index = write_index(out_dir)
-    n_built = sum(built)
-    return BuildReport(parts_built, len(meshes) - parts_built, n_built, len(built) - n_built, index)
+    n_built = len(stale)
+    return BuildReport(
+        parts_built, len(meshes) - parts_built, n_built, len(configs) - n_built, index
+    )
 
 
 def write_index(out_dir: Path) -> Path:
