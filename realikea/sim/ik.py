@@ -124,7 +124,8 @@ class IKController:
         self.bounds = joint_limits()
         self._site = self.model.site(TCP_SITE).id
         self._lower, self._upper = self.bounds[:, 0].copy(), self.bounds[:, 1].copy()
-        self._lower_tol, self._upper_tol = self._lower - 1e-6, self._upper + 1e-6
+        # the limits with a 1e-6 rad tolerance, as lists: 7 float comparisons beat 4 numpy calls
+        self._inside_bounds = ((self._lower - 1e-6).tolist(), (self._upper + 1e-6).tolist())
         self._qp = _ArmQP(self.configuration, self.frame, self.posture, self.limits, dt, damping)
         self._target = mink.SE3(wxyz_xyz=np.zeros(7))
         self._target.wxyz_xyz[0] = 1.0
@@ -188,7 +189,8 @@ class IKController:
         q_new = self._qp.step(q)
         if q_new is None:
             return IKResult(q, False, math.inf, math.inf)
-        inside = bool((q_new >= self._lower_tol).all() and (q_new <= self._upper_tol).all())
+        lows, highs = self._inside_bounds
+        inside = all(lo <= x <= hi for x, lo, hi in zip(q_new.tolist(), lows, highs, strict=True))
         q_new = np.minimum(np.maximum(q_new, lower), upper)
         # the pose q_new reaches: forward kinematics only, on the IK's own data
         data = self.configuration.data

@@ -152,7 +152,9 @@ class OpenTask:
 
     @property
     def aperture(self) -> float:
-        return float(np.add.reduce(self.data.qpos[self._finger_q]) / (2 * self.gripper.stroke))
+        left, right = self._finger_q  # numpy's sum of the two, in floats (0.0 + as its reduction)
+        qpos = self.data.qpos
+        return (0.0 + qpos.item(left) + qpos.item(right)) / (2 * self.gripper.stroke)
 
     def _targets(self) -> tuple[float, float]:
         """Distances of the TCP to the targets t1, t2 (np.linalg.norm's arithmetic, in floats)."""
@@ -262,7 +264,7 @@ class OpenTask:
 
     def diverged(self) -> bool:
         """NaN state or MuJoCo's own instability warning."""
-        number = self.data.warning.number
+        number = self.data.warning.number.tolist()
         bad = any(number[w] > 0 for w in INSTABILITY_WARNINGS)
         return bool(bad or not np.isfinite(self.data.qpos).all())
 
