@@ -1,0 +1,205 @@
+"""A scripted upper bound that opens by form closure: fingertips behind the handle, not a pinch.
+
+It stands in for the paper's human teleoperation: a person does not squeeze a drawer handle,
+they hook a finger behind it. The plan is made from the part's geometry alone (the part frame
+of `SceneFacts` and the catalog's dimensions), never tuned per configuration. Part frame: z out
+of the front, x along the bar or lip, y "up" for a drawer's part (finger-pull lips open towards
+-y); on doors the frame and the hand are both rolled, so the same plan holds.
+
+Two ways of catching the part, chosen by its category:
+
+* **loop** (two-point handles): the open jaws straddle the bar (one pad above, one below),
+  advance until the pads are in the gap between the bar and the front, and close there. The
+  closed pads stick 8 mm out of the finger bodies (`realikea/sim/README.md`), so the jaws close
+  around the bar with the bodies clear of it and the pads' back faces behind it: pulling loads
+  the bar with the pads' normal force along the opening direction, whatever the squeeze. A bar
+  taller than the bodies' clearance gets a partial closure (the bodies still clear the bar).
+* **wedge** (knobs from above, finger-pull lips from below): the hand is pitched so one finger
+  leads; that finger's pad slides along its own inner face past the feature's edge (the back
+  rim of a knob's head, the inner bottom edge of a lip) into the space behind it, then pulls.
+  The inclined inner face pushes the edge out along the opening direction and across it
+  (down on a knob, up on a lip), the front's joint and the stiff arm taking the cross
+  component: the normal force carries the pull. The other jaw stays wide open, clear of it all.
+
+Knobs without an undercut (cylinders, cones) have no edge to get behind; the plan then wedges
+against the rim at the face and the physics decides.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from realikea.policies.scripted import (
+    OPEN,
+    ActionScales,
+    Waypoint,
+    WaypointPolicy,
+)
+from realikea.sim.ik import tcp_rotation
+from realikea.tasks.facts import SceneFacts
+
+# fingertip pad (realikea/sim/robot.py): the TCP is the pad centre
+PAD_HALF_LENGTH = 0.009  # m along the approach
+PAD_THICKNESS = 0.009  # m across the jaw gap
+BODY_STEP = 0.008  # m the finger body steps back from the pad's contact plane
+
+# generator internals the catalog's dimensions imply (realikea/assets/shapes.py)
+_ROOF_MIN = 0.0064  # m: a finger pull's roof holds an M4 bore (2 x 1.7 mm + 2 x 1.2 mm + 0.6 mm)
+_KNOB_FLANGE = 0.0015  # m: the foot flange of a knob's neck
+
+
+@dataclass(frozen=True)
+class OracleParams:
+    """Geometric constants of the plan (conf/policy/hook_oracle.yaml documents them)."""
+
+    clearance: float = 0.002  # m kept between the hand and the part or the front while placing
+    standoff: float = 0.04  # m in front of the part where the approach starts
+    pull_distance: float = 0.4  # m of the straight pull along the opening direction
+    wedge_pitch: float = 0.55  # rad the hand is tipped down for a knob's wedge (task limit 0.6)
+    lip_pitch: float = 0.25  # rad tipped up for a lip's wedge (the wrist's limit at drawer height)
+    wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
+    wedge_preload: float = 0.001  # m the pad's face is set into the edge before the pull
+    loop_body_clearance: float = 0.002  # m between a closed finger body and the bar
+
+
+@dataclass(frozen=True)
+class Catch:
+    """Where the plan puts the hand in the part frame (y, z) and how it holds there."""
+
+    mode: str  # "loop" or "wedge"
+    pitch: float
+    tcp: np.ndarray  # (3,) part-frame TCP at the catch
+    approach: np.ndarray  # (3,) part-frame unit vector the hand slides in along
+    away: np.ndarray  # (3,) part-frame unit vector off the part (backing off the face)
+    grip: float  # gripper command while catching and pulling
+
+
+def _feature(facts: SceneFacts) -> dict:
+    """The part's catchable geometry (metres, part frame) from its catalog dimensions."""
+    d, cat = facts.part_dims, facts.category
+    proj = d["projection"]
+    if cat == "two_point":
+        height = next(
+            d[k] for k in ("bar_diameter", "bar_width", "rod_diameter", "strap_width") if k in d
+        )
+        depth = next(
+            d[k]
+            for k in ("bar_diameter", "bar_thickness", "rod_diameter", "strap_thickness")
+            if k in d
+        )
+        return {"proj": proj, "height": height, "depth": depth}
+    if cat == "knob":
+        radius = d.get("diameter", d.get("width", 0.0)) / 2
+        if "head_thickness" in d:  # a head on a neck: the head's back face
+            back, neck = proj - d["head_thickness"], d["neck_diameter"] / 2
+        elif "edge_radius" in d and "base_diameter" in d:  # tapered: the rim behind the face
+            back, neck = proj - 0.0015 - 2.2 * d["edge_radius"], d["base_diameter"] / 2
+        else:  # cylindrical: no undercut; the face's rounded rim is all there is
+            back, neck = proj - max(0.0025, 1.5 * min(0.002, 0.2 * radius)), radius
+        return {"radius": radius, "back": back, "neck": min(neck, radius)}
+    # finger pulls: the lip's inner bottom edge and the channel behind it
+    t = d["thickness"]
+    if "lip_drop" in d:
+        roof = max(_ROOF_MIN, t)
+        edge_y = roof / 2 - roof - d["lip_drop"]
+        return {"edge_y": edge_y, "edge_z": proj - t, "back": t, "top": roof / 2 - roof}
+    # cup: a half shell open at the bottom (y = -height/2), hollow down to its flange
+    return {"edge_y": -d["height"] / 2, "edge_z": proj - t, "back": 0.002, "top": 0.0}
+
+
+class HookOracle(WaypointPolicy):
+    """Form closure from the part's geometry: a loop behind bars, a wedge behind knobs and lips."""
+
+    name = "hook_oracle"
+
+    def __init__(self, scales: ActionScales | None = None, params: OracleParams | None = None):
+        super().__init__(scales or ActionScales())
+        self.params = params or OracleParams()
+
+    @classmethod
+    def from_config(cls, cfg):
+        action = cfg.task.action
+        scales = ActionScales(float(action.translation_scale), float(action.pitch_scale))
+        fields = OracleParams.__dataclass_fields__
+        params = OracleParams(**{k: float(v) for k, v in cfg.policy.items() if k in fields})
+        return cls(scales, params)
+
+    # --- the catch --------------------------------------------------------------------------
+    def _axes(self, facts: SceneFacts, pitch: float) -> tuple[np.ndarray, np.ndarray]:
+        """Part-frame approach and jaw axes of the TCP at a pitch."""
+        rot = facts.part_rot.T @ tcp_rotation(pitch, facts.tcp_nominal)
+        return rot[:, 2], rot[:, 1]
+
+    def _aperture_command(self, facts: SceneFacts, aperture: float) -> float:
+        return float(np.clip(2.0 * aperture / facts.max_aperture - 1.0, -1.0, 1.0))
+
+    def _loop(self, facts: SceneFacts) -> Catch:
+        p, f = self.params, _feature(facts)
+        approach, _ = self._axes(facts, 0.0)
+        gap = f["proj"] - f["depth"]  # between the bar's back and the front
+        # the pads wholly in the gap if they fit, else as deep as the front allows
+        z = max(PAD_HALF_LENGTH + 0.0005, min(gap / 2, gap - PAD_HALF_LENGTH - p.clearance))
+        # closed jaws with the finger bodies clear of the bar; a short bar lets them meet
+        aperture = max(0.0, f["height"] + 2 * p.loop_body_clearance - 2 * BODY_STEP)
+        tcp = np.array([0.0, 0.0, z])
+        return Catch("loop", 0.0, tcp, approach, -approach, self._aperture_command(facts, aperture))
+
+    def _wedge(self, facts: SceneFacts) -> Catch:
+        """Lead with one pad whose inner face lies on the feature's edge, tip behind it."""
+        p, f = self.params, _feature(facts)
+        knob = facts.category == "knob"
+        pitch = -p.wedge_pitch if knob else p.lip_pitch  # from above on knobs, below on lips
+        a, j = self._axes(facts, pitch)
+        sign = 1.0 if j[2] < 0 else -1.0  # the finger that leads (further towards the front)
+        normal = -sign * j  # its inner face's normal, towards the other jaw
+        if knob:
+            edge = np.array([0.0, f["radius"], f["back"]])
+            floor_y = f["neck"]  # the face must pass above the neck
+            room_y = (edge[1] - floor_y - p.clearance) / max(abs(a[1]), 1e-6)
+        else:
+            edge = np.array([0.0, f["edge_y"], f["edge_z"]])
+            room_y = (f["top"] - edge[1] - p.clearance) / max(abs(a[1]), 1e-6)
+        # the pad's outer tip corner must stay clear of the front (or the pull's back plate)
+        back = 0.0 if knob else f["back"]
+        corner = PAD_THICKNESS * abs(normal[2])
+        room_z = (edge[2] - back - p.clearance - corner) / max(abs(a[2]), 1e-6)
+        depth = max(0.0, min(p.wedge_depth, room_y, room_z))
+        tip = edge + depth * a + p.wedge_preload * normal  # the pad's inner tip edge, set in
+        half_gap = facts.max_aperture / 2
+        tcp = tip - sign * half_gap * j - PAD_HALF_LENGTH * a
+        return Catch("wedge", pitch, tcp, a, -normal, OPEN)
+
+    def catch(self, facts: SceneFacts) -> Catch:
+        return self._loop(facts) if facts.category == "two_point" else self._wedge(facts)
+
+    # --- the plan ---------------------------------------------------------------------------
+    def plan(self, facts: SceneFacts) -> list[Waypoint]:
+        p, c = self.params, self.catch(facts)
+        world = facts.to_world
+        at = world(c.tcp)
+        if c.mode == "loop":
+            start = world(c.tcp - p.standoff * c.approach)
+            near = world(c.tcp - p.clearance * c.approach)
+            steps = [
+                Waypoint(start, 0.0, OPEN, tolerance=0.01, timeout=60),
+                Waypoint(near, 0.0, OPEN, tolerance=0.003, timeout=25),
+                Waypoint(at, 0.0, OPEN, tolerance=0.002, hold=2, timeout=15),
+                Waypoint(at, 0.0, c.grip, tolerance=1.0, hold=9, timeout=10),
+            ]
+        else:
+            off = (p.clearance + p.wedge_preload) * c.away
+            turn = int(np.ceil(abs(c.pitch) / self.scales.pitch)) + 2  # steps to tip the hand
+            start = world(c.tcp - p.standoff * c.approach + off)
+            slid = world(c.tcp + off)
+            # tipping down works on the way; tipping up only once there (the wrist's joint 5)
+            level = 0.0 if c.pitch > 0 else c.pitch
+            steps = [
+                Waypoint(start, level, OPEN, tolerance=0.01, timeout=60),
+                Waypoint(start, c.pitch, OPEN, tolerance=0.01, hold=turn, timeout=turn + 10),
+                Waypoint(slid, c.pitch, OPEN, tolerance=0.003, timeout=25),
+                Waypoint(at, c.pitch, OPEN, tolerance=0.002, hold=2, timeout=10),
+            ]
+        pull = at + p.pull_distance * facts.pull_dir
+        return [*steps, Waypoint(pull, c.pitch, c.grip, tolerance=0.0, timeout=10**9)]
