@@ -51,27 +51,41 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     return OmegaConf.create(merged)
 
 
-def run_eval(args: argparse.Namespace) -> int:
-    from realikea.eval.protocol import outcome_table, run_episodes
+def eval_setup(overrides: list[str]):
+    """(cfg, policy) of `realikea eval OVERRIDES`: the composed config with a checkpoint's own
+    run groups (`effective_config`) or a policy's own configuration, contacts logged."""
     from realikea.policies.registry import make_policy
-    from realikea.pool.env_pool import EnvPool
 
-    cfg = load_config(args.overrides)
+    cfg = load_config(overrides)
     policy = make_policy(cfg)
     if hasattr(policy, "run_cfg"):
-        cfg = effective_config(cfg, policy.run_cfg, args.overrides)
+        cfg = effective_config(cfg, policy.run_cfg, overrides)
     if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
-        cfg = policy.configure(cfg, args.overrides)
+        cfg = policy.configure(cfg, overrides)
     cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
-    if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
-        return int(policy.run_interactive(cfg, args.overrides))
+    return cfg, policy
+
+
+def evaluate(cfg: DictConfig, policy, progress: bool = True):
+    """`cfg.episodes` episodes of `policy` on an env pool of at most `cfg.env.num_envs` envs."""
+    from realikea.eval.protocol import run_episodes
+    from realikea.pool.env_pool import EnvPool
+
     episodes = int(cfg.episodes)
     if episodes < 1:
         raise RealIkeaError(f"episodes={episodes}: use 1 or more")
-    num_envs = min(episodes, int(cfg.env.num_envs))
-    cfg.env.num_envs = num_envs
+    cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
     with EnvPool.from_config(cfg) as pool:
-        result = run_episodes(pool, policy, episodes)
+        return run_episodes(pool, policy, episodes, progress=progress)
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    from realikea.eval.protocol import outcome_table
+
+    cfg, policy = eval_setup(args.overrides)
+    if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
+        return int(policy.run_interactive(cfg, args.overrides))
+    result = evaluate(cfg, policy)
     print(
         f"policy {cfg.policy.name} on asset={cfg.asset.category} resistance={cfg.resistance.name}"
         f" collision={cfg.collision.source} gripper={cfg.gripper.name} contact={cfg.contact.name}"

@@ -1,0 +1,95 @@
+"""End-of-training evaluation (`train.eval_after`): the run's last checkpoint under several
+resistance modes through `realikea eval`'s own code, written to `<run>/eval.json`.
+
+Each mode is exactly `realikea eval policy=checkpoint policy.path=<checkpoint> <the run's
+command-line overrides> resistance=<mode> episodes=<n> [dr=...] [env.seed=...]` (the command
+is stored beside its result, so any entry can be re-run by hand).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+from omegaconf import DictConfig, OmegaConf
+
+from realikea.assets.cache import atomic_write_text
+
+EVAL_FILE = "eval.json"
+# run overrides the evaluation replaces or that only concern training
+_DROPPED = ("resistance", "policy", "episodes", "video", "train", "logger")
+
+
+def _key(override: str) -> str:
+    return override.lstrip("+~").split("=", 1)[0]
+
+
+def eval_overrides(
+    run_overrides: list[str], checkpoint: Path, mode: str, spec: DictConfig
+) -> list[str]:
+    """The `realikea eval` overrides of one mode (see the module docstring)."""
+    dropped = list(_DROPPED)
+    if spec.get("dr"):
+        dropped.append("dr")
+    if spec.get("seed") is not None:
+        dropped.append("env.seed")
+    kept = [
+        o
+        for o in run_overrides
+        if not any(_key(o) == d or _key(o).startswith(d + ".") for d in dropped)
+    ]
+    out = [*kept, "policy=checkpoint", f"policy.path={Path(checkpoint).resolve()}"]
+    out += [f"resistance={mode}", f"episodes={int(spec.episodes)}"]
+    if spec.get("dr"):
+        out.append(f"dr={spec.dr}")
+    if spec.get("seed") is not None:
+        out.append(f"env.seed={int(spec.seed)}")
+    return out
+
+
+def _finite(value: float) -> float | None:
+    return None if value is None or math.isnan(value) else float(value)
+
+
+def evaluate_run(
+    spec: DictConfig,
+    run_dir: Path,
+    checkpoint: Path,
+    run_overrides: list[str],
+    train_seconds: float | None = None,
+) -> dict:
+    """Evaluate `checkpoint` under every mode of `spec.resistances`; write and return eval.json."""
+    from realikea.eval.commands import eval_setup, evaluate
+    from realikea.eval.table import CONTACT_STATS, cell_row
+
+    run_dir = Path(run_dir)
+    report: dict = {
+        "checkpoint": Path(checkpoint).name,
+        "train_seconds": train_seconds,
+        "episodes": int(spec.episodes),
+        "modes": {},
+    }
+    begin = time.perf_counter()
+    for mode in spec.resistances:
+        overrides = eval_overrides(run_overrides, checkpoint, str(mode), spec)
+        cfg, policy = eval_setup(overrides)
+        result = evaluate(cfg, policy, progress=False)
+        row = cell_row(cfg, "checkpoint", str(cfg.asset.category), str(mode), result)
+        report["modes"][str(mode)] = {
+            **result.summary(),
+            "contacts": {s: _finite(row[s]) for s in CONTACT_STATS},
+            "pulled_episodes": sum(1 for e in result.episodes if e.get("pull_seconds", 0) > 0),
+            "mean_return": _finite(
+                sum(e.get("episode_return", 0.0) for e in result.episodes) / len(result.episodes)
+            ),
+            "dr": str(cfg.dr.mode),
+            "env_seed": int(cfg.env.seed),
+            "command": "realikea eval " + " ".join(overrides),
+        }
+        print(f"eval_after {mode}: {json.dumps(result.summary())}", flush=True)
+    report["eval_seconds"] = time.perf_counter() - begin
+    report["spec"] = OmegaConf.to_container(spec, resolve=True)
+    atomic_write_text(run_dir / EVAL_FILE, json.dumps(report, indent=2) + "\n")
+    return report
