@@ -46,11 +46,22 @@ def write_mp4(frames: list, path: Path) -> Path:
     return path
 
 
+def write_strip(frames: list, path: Path, count: int = 4) -> Path:
+    """`count` frames spread over an episode side by side in one PNG (for READMEs)."""
+    picks = np.linspace(0, len(frames) - 1, count).round().astype(int)
+    strip = np.concatenate([frames[i] for i in picks], axis=1)
+    tmp = path.with_name(f".{path.name}.tmp.png")
+    imageio.imwrite(tmp, strip)
+    os.replace(tmp, path)
+    return path
+
+
 def record_strategies(
-    tasks: list[OpenTask], policy, episodes: int, stem: Path, size=(360, 480)
+    tasks: list[OpenTask], policy, episodes: int, stem: Path, size=(384, 512)
 ) -> dict[str, Path]:
     """Run up to `episodes` episodes (cycling over `tasks`) and write the first episode of each
-    strategy label to `<stem>_<strategy>.mp4`; returns label -> path."""
+    strategy label to `<stem>_<strategy>_<outcome>.mp4`, with a PNG strip of four of its frames
+    next to it; returns label -> MP4 path."""
     written: dict[str, Path] = {}
     stem = Path(stem)
     for k in range(episodes):
@@ -61,4 +72,5 @@ def record_strategies(
         if label not in written:
             name = f"{stem.stem}_{label}_{info.get('outcome', 'fail')}.mp4"
             written[label] = write_mp4(frames, stem.with_name(name))
+            write_strip(frames, written[label].with_suffix(".png"))
     return written
