@@ -1,0 +1,190 @@
+"""The fidelity-ablation experiment: config and sweep axes, a tiny multirun through it with the
+end-of-training evaluation (eval.json), the report, and (opt-in) the Ray launcher."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import shutil
+import subprocess
+import sys
+
+import pytest
+import yaml
+from hydra import compose, initialize_config_dir
+from hydra.core.global_hydra import GlobalHydra
+from hydra.core.override_parser.overrides_parser import OverridesParser
+from omegaconf import OmegaConf
+
+from realikea.assets.catalog import REPO_ROOT
+from realikea.config import CONF_DIR, load_config
+from realikea.training.eval_after import eval_overrides
+
+TINY = [
+    "asset=two_point",
+    "asset.part=tp_round_bar_128",
+    "asset.base=drawer_w60_h20",
+    "resistance=smooth",
+    "env.num_envs=2",
+    "env.num_workers=0",
+    "task.episode_seconds=1.5",
+    "agent.max_iterations=2",
+    "agent.num_steps_per_env=8",
+    "train.eval_after.episodes=2",
+]
+
+
+def hydra_config(overrides):
+    GlobalHydra.instance().clear()
+    try:
+        with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
+            return compose("config", overrides=overrides, return_hydra_config=True)
+    finally:
+        GlobalHydra.instance().clear()
+
+
+def test_experiment_sets_two_phase_training_and_the_evaluation():
+    cfg = load_config(["+experiment=fidelity_ablation"])
+    assert cfg.dr.mode == "two_phase" and 0 < cfg.dr.switch_iteration < cfg.agent.max_iterations
+    assert cfg.logger.backend == "none"
+    assert cfg.env.num_envs == 32 and cfg.asset.kind == "drawer"
+    spec = cfg.train.eval_after
+    assert spec.episodes == 50 and list(spec.resistances) == ["smooth", "normal", "high"]
+    # off unless asked for
+    assert load_config([]).train.eval_after is None
+
+
+def test_sweeper_params_span_collision_resistance_and_category():
+    cfg = hydra_config(["+experiment=fidelity_ablation"])
+    params = cfg.hydra.sweeper.params
+    parsed = OverridesParser.create().parse_overrides([f"{k}={v}" for k, v in params.items()])
+    axes = {
+        o.key_or_group: list(o.sweep_string_iterator()) if o.is_sweep_override() else [o.value()]
+        for o in parsed
+    }
+    assert axes["collision"] == ["coacd", "hull"]
+    assert axes["resistance"] == ["smooth", "normal", "high"]
+    assert axes["asset"] == ["knob", "finger_pull", "two_point"]
+    assert "env.seed" in axes and "gripper" in axes
+    assert math.prod(len(v) for v in axes.values()) == 18
+    assert cfg.hydra.sweep.dir.startswith("outputs/fidelity_ablation/")
+    assert "JoblibLauncher" in cfg.hydra.launcher._target_ and cfg.hydra.launcher.n_jobs == 2
+    # the Ray and SLURM launcher presets build on the plugins' own configs
+    for name, base in (("realikea_ray", "ray"), ("realikea_slurm", "submitit_slurm")):
+        preset = yaml.safe_load((CONF_DIR / "hydra" / "launcher" / f"{name}.yaml").read_text())
+        assert preset["defaults"][0] == base
+
+
+def test_eval_overrides_replace_the_training_resistance_and_keep_the_rest(tmp_path):
+    spec = OmegaConf.create({"episodes": 5, "resistances": ["high"], "dr": "randomized", "seed": 7})
+    run = ["collision=hull", "resistance=smooth", "+experiment=fidelity_ablation", "env.seed=3",
+           "dr.switch_iteration=4", "train.eval_after.episodes=5", "asset=knob"]  # fmt: skip
+    out = eval_overrides(run, tmp_path / "model_9.pt", "high", spec)
+    assert out[:3] == ["collision=hull", "+experiment=fidelity_ablation", "asset=knob"]
+    assert "resistance=smooth" not in out and "env.seed=3" not in out
+    assert out[-5:] == [
+        f"policy.path={(tmp_path / 'model_9.pt').resolve()}",
+        "resistance=high",
+        "episodes=5",
+        "dr=randomized",
+        "env.seed=7",
+    ]
+    plain = eval_overrides(run, tmp_path / "m.pt", "normal", OmegaConf.create({"episodes": 1}))
+    assert "env.seed=3" in plain and "dr.switch_iteration=4" in plain
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    """`train.py -m +experiment=fidelity_ablation` with every axis pinned: one tiny run."""
+    root = tmp_path_factory.mktemp("ablation")
+    args = ["-m", "+experiment=fidelity_ablation", "hydra/launcher=basic", *TINY]
+    args += ["collision=hull", f"paths.library={root / 'library'}", f"hydra.sweep.dir={root / 's'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    return root / "s"
+
+
+def test_tiny_run_writes_eval_json_under_three_modes(sweep):
+    runs = [p for p in sweep.iterdir() if p.is_dir()]
+    assert [r.name for r in runs] == ["hull_smooth_two_point_franka_hand_s0"]
+    run = runs[0]
+    assert (run / "metrics.csv").is_file() and (run / ".hydra" / "config.yaml").is_file()
+    report = json.loads((run / "eval.json").read_text())
+    assert report["checkpoint"] == "model_1.pt" and report["train_seconds"] > 0
+    assert list(report["modes"]) == ["smooth", "normal", "high"]
+    for mode, entry in report["modes"].items():
+        assert entry["episodes"] == 2
+        assert entry["fail"] + entry["partial"] + entry["success"] == pytest.approx(1.0)
+        assert set(entry["strategies"]) == {"hook", "lever", "pinch", "none"}
+        assert sum(entry["strategies"].values()) == pytest.approx(1.0)
+        assert "friction_share" in entry["contacts"]
+        assert entry["dr"] == "randomized" and entry["env_seed"] == 1000
+        assert entry["command"].startswith("realikea eval ")
+        assert f"resistance={mode}" in entry["command"]
+
+
+def fake_coacd_run(run, target):
+    """A copy of the tiny run relabelled as CoACD, with pinch/hook strategies and successes."""
+    shutil.copytree(run, target)
+    config = target / ".hydra" / "config.yaml"
+    config.write_text(config.read_text().replace("source: hull", "source: coacd"))
+    report = json.loads((target / "eval.json").read_text())
+    for entry in report["modes"].values():
+        entry.update(fail=0.25, partial=0.25, success=0.5)
+        entry["strategies"] = {"hook": 0.5, "lever": 0.0, "pinch": 0.25, "none": 0.25}
+        entry["contacts"]["friction_share"] = 0.3
+    (target / "eval.json").write_text(json.dumps(report))
+    (target / "videos").mkdir()
+    (target / "videos" / "eval_hook_success.mp4").write_bytes(b"")
+
+
+def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
+    root = tmp_path / "runs"
+    shutil.copytree(sweep, root)
+    run = root / "hull_smooth_two_point_franka_hand_s0"
+    fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
+    spec = importlib.util.spec_from_file_location(
+        "fidelity_report", REPO_ROOT / "experiments" / "fidelity_ablation" / "report.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    out = tmp_path / "report"
+    assert module.main([str(root), "--out", str(out)]) == 0
+    text = (out / "report.md").read_text()
+    assert "2 runs from" in text
+    assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
+    assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.25 | 0.30 |" in text
+    assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
+    assert "eval_hook_success.mp4" in text
+    for name in ("success", "outcomes", "strategies", "learning_curves"):
+        assert (out / f"{name}.png").stat().st_size > 5_000
+
+
+@pytest.mark.slow
+@pytest.mark.ray
+def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
+    """Opt-in (`pip install -e '.[cluster]'`, `pytest -m ray`): two runs as Ray tasks."""
+    pytest.importorskip("ray")
+    pytest.importorskip("hydra_plugins.hydra_ray_launcher")
+    args = ["-m", "+experiment=fidelity_ablation", "hydra/launcher=realikea_ray", *TINY]
+    args += ["hydra.launcher.ray.init.num_cpus=2", "hydra.launcher.ray.remote.num_cpus=1"]
+    args += [
+        "collision=coacd,hull",
+        "agent.max_iterations=1",
+        "train.eval_after.resistances=[high]",
+    ]
+    args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 's'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    for collision in ("coacd", "hull"):
+        report = json.loads(
+            (
+                tmp_path / "s" / f"{collision}_smooth_two_point_franka_hand_s0" / "eval.json"
+            ).read_text()
+        )
+        assert list(report["modes"]) == ["high"] and report["modes"]["high"]["episodes"] == 2
