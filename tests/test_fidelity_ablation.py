@@ -139,6 +139,7 @@ def fake_coacd_run(run, target):
     (target / "eval.json").write_text(json.dumps(report))
     (target / "videos").mkdir()
     (target / "videos" / "eval_hook_success.mp4").write_bytes(b"")
+    (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
 def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
@@ -158,7 +159,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.25 | 0.30 |" in text
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
-    assert "eval_hook_success.mp4" in text
+    assert "eval_hook_success.mp4" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):
         assert (out / f"{name}.png").stat().st_size > 5_000
 

@@ -8,7 +8,8 @@ Cells are (collision source, training resistance, category) per gripper/contact 
 seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation),
 success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` runs
 `realikea eval ... video=true` once per run (under its training resistance), which writes one
-MP4 per strategy label into RUN/videos/; the report links every RUN/videos/*.mp4 it finds.
+MP4 (and a PNG strip of four frames) per strategy label into RUN/videos/; the report links
+every RUN/videos/*.mp4 it finds and shows its strip.
 """
 
 from __future__ import annotations
@@ -401,6 +402,9 @@ def report(roots: list[Path], out: Path) -> Path:
         for run, video in videos:
             cell = f"{run['variant']} / {run['resistance']} / {run['category']} / s{run['seed']}"
             lines.append(f"- {cell}: [{video.name}]({_rel(video, out)})")
+            strip = video.with_suffix(".png")  # four frames of the episode (realikea/eval/video)
+            if strip.is_file():
+                lines.append(f"\n  ![{video.stem}]({_rel(strip, out)})")
     else:
         lines.append(
             "None recorded: `python experiments/fidelity_ablation/report.py --record-videos` "
