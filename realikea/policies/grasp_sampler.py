@@ -453,6 +453,7 @@ class GraspSampler(WaypointPolicy):
     ):
         super().__init__(scales if scales is not None else ActionScales())
         self.params = params if params is not None else SamplerParams()
+        self._warned: set[str] = set()
         self.grasp_file = Path(grasps) if grasps is not None else None
         self.file_grasps = None
         if self.grasp_file is not None:
@@ -525,6 +526,8 @@ class GraspSampler(WaypointPolicy):
                 *pull_waypoints(position, pitch, facts, p.pull_distance),
             ]
         self.last_grasp = None
-        log.warning("grasp_sampler: no reachable grasp for %s; holding still", facts.config_id)
+        if facts.config_id not in self._warned:  # once per configuration, not per episode
+            self._warned.add(facts.config_id)
+            log.warning("grasp_sampler: no reachable grasp for %s; holding still", facts.config_id)
         here = facts.handle_pos + 0.15 * facts.part_rot[:, 2]
         return [Waypoint(here, 0.0, OPEN, tolerance=0.0, timeout=10**9)]
