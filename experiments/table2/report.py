@@ -25,10 +25,10 @@ FRICTION_BASED = ("heuristic_pull", "grasp_sampler")
 TRAP_SMOOTH, TRAP_HIGH = 0.6, 0.1  # a trap: friction-based success >= 0.6 smooth, <= 0.1 high
 
 
-def load() -> dict[str, list[dict]]:
-    """preset name -> rows of its table2.csv (numbers as floats)."""
+def load(pattern: str = "*_*/table2.csv") -> dict[str, list[dict]]:
+    """folder name -> rows of its table2.csv (numbers as floats)."""
     presets = {}
-    for path in sorted(HERE.glob("*_*/table2.csv")):
+    for path in sorted(HERE.glob(pattern), key=lambda p: (len(p.parent.name), p.parent.name)):
         with path.open() as f:
             rows = list(csv.DictReader(f))
         for row in rows:
@@ -168,6 +168,30 @@ def main() -> None:
                             f"{c['peak_pull']:.1f} | {c['peak_slip_ratio']:.2f} | "
                             f"{c['normal_angle_deg']:.0f} |"
                         )
+    sweep = load("grip_sweep/*/table2.csv") if list(HERE.glob("grip_sweep/*/table2.csv")) else {}
+    if sweep:
+        lines += [
+            "",
+            "## Where the trap appears: the grip force",
+            "",
+            "A sensitivity run, not a calibration: `heuristic_pull` with `franka_hand` and "
+            "elliptic cones at a lower continuous grasp force per jaw "
+            "(`gripper.grasp_force=F`; `grip_sweep/*/table2.md`), next to the two presets' "
+            "actual drives (70 N; Menagerie's servo, about 0.3 N on a 12 mm bar). Success "
+            "smooth -> normal -> high, and the slip ratio at the peak pull in high:",
+            "",
+            "| grip per jaw | knob | slip ratio (high) | finger pull | slip ratio (high) |",
+            "|---|---|---:|---|---:|",
+        ]
+        for name, rows in sweep.items():
+            cells = []
+            for category in ("knob", "finger_pull"):
+                found = [cell(rows, "heuristic_pull", category, m) for m in MODES]
+                cells.append(" -> ".join(f"{c['success']:.2f}" for c in found))
+                ratio = found[2]["peak_slip_ratio"]
+                cells.append(f"{ratio:.2f}" if ratio == ratio else "no pull")
+            force = name.rsplit("_", 1)[-1].removesuffix("N")
+            lines.append(f"| {force} N | " + " | ".join(cells) + " |")
     plot(presets, HERE / "success.png")
     (HERE / "report.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -9,8 +9,15 @@ EPISODES="${1:-50}"
 for gripper in franka_hand menagerie_servo; do
   for contact in elliptic pyramidal; do
     echo "=== gripper=$gripper contact=$contact"
-    /usr/bin/time -f "preset wall time: %e s" \
-      realikea eval table gripper="$gripper" contact="$contact" episodes="$EPISODES"
+    start=$SECONDS
+    realikea eval table gripper="$gripper" contact="$contact" episodes="$EPISODES"
+    echo "preset $gripper $contact seconds $((SECONDS - start))"
   done
+done
+# sensitivity of the friction-based pull to the grip force (not a calibration: see README.md)
+for force in 5 10 20; do
+  realikea eval table gripper=franka_hand contact=elliptic gripper.grasp_force="$force" \
+    "table.policies=[heuristic_pull]" "table.categories=[knob,finger_pull]" episodes="$EPISODES" \
+    table.out="experiments/table2/grip_sweep/franka_hand_elliptic_${force}N"
 done
 python experiments/table2/report.py
