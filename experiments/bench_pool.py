@@ -241,7 +241,7 @@ def breakdown(timing: dict) -> list[tuple[str, float]]:
     ms["reset"] = timing["reset"] / n * 1e3
     ms["busy"] = timing["busy"] / n * 1e3
     rows = [
-        ("IK: mink solve_ik (one QP, daqp) + its checks", ms["ik"]),
+        ("IK: mink's QP (built in place, one daqp solve) + its checks", ms["ik"]),
         ("action mapping around the IK (OpenTask.apply_action)", ms["apply"] - ms["ik"]),
         ("physics: decimation x mj_step (OpenTask.simulate)", ms["simulate"]),
         ("observation (OpenTask.observe, incl. at resets)", ms["observe"]),
