@@ -25,6 +25,7 @@ from omegaconf import DictConfig, OmegaConf
 from realikea.config import repo_path
 from realikea.errors import RealIkeaError
 from realikea.policies.demonstration import Demonstration, load_demonstration
+from realikea.policies.per_env import PerEnvPolicy
 from realikea.tasks.open_task import ACTION_SIZE
 
 # groups the recording brings unless the command line overrides them (the asset always)
@@ -36,7 +37,7 @@ def _overridden(key: str, overrides: list[str]) -> bool:
     return any(o.lstrip("+~").split("=")[0].startswith(key) for o in overrides)
 
 
-class ReplayPolicy:
+class ReplayPolicy(PerEnvPolicy):
     """The recorded actions of a demonstration, episode after episode, per env."""
 
     name = "replay"
@@ -104,12 +105,6 @@ class ReplayPolicy:
             i = int(i)
             self.episode[i] = self.episode.get(i, -1) + 1
             self.t[i] = 0
-
-    def act(self, obs: np.ndarray) -> np.ndarray:
-        actions = np.zeros((len(obs), ACTION_SIZE))
-        for i, row in enumerate(obs):
-            actions[i] = self._act_one(i, row)
-        return actions
 
     def _act_one(self, i: int, obs: np.ndarray) -> np.ndarray:
         k = self.episode.get(i, 0)

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from realikea.policies.per_env import PerEnvPolicy
 from realikea.sim.ik import tcp_pitch
 from realikea.tasks import observations
 from realikea.tasks.facts import SceneFacts
@@ -64,7 +65,7 @@ def servo(obs: np.ndarray, facts: SceneFacts, wp: Waypoint, scales: ActionScales
     return np.clip(action, -1.0, 1.0)
 
 
-class WaypointPolicy:
+class WaypointPolicy(PerEnvPolicy):
     """Base of the scripted policies: `plan(facts)` gives each episode's waypoints."""
 
     name = "scripted"
@@ -92,12 +93,6 @@ class WaypointPolicy:
             i = int(i)
             self.facts[i], self.plans[i] = f, self.plan(f)
             self.phase[i] = self.count[i] = self.reached[i] = 0
-
-    def act(self, obs: np.ndarray) -> np.ndarray:
-        actions = np.zeros((len(obs), ACTION_SIZE))
-        for i, row in enumerate(obs):
-            actions[i] = self._act_one(i, row)
-        return actions
 
     def _act_one(self, i: int, obs: np.ndarray) -> np.ndarray:
         plan, facts = self.plans[i], self.facts[i]
