@@ -98,9 +98,9 @@ class OpenTask:
         self.nominal = rolled_nominal(math.radians(self.base.mount_roll_deg % 180.0))
         self.home = np.asarray(cfg.sim.robot.home, float)
         if self.base.mount_roll_deg % 180.0:
-            unrolled = IKController.from_config(cfg, nominal=self.nominal)
-            position, _ = unrolled.tcp_pose(self.home)
-            self.home = unrolled.converge(self.home, position, 0.0)
+            rolled = IKController.from_config(cfg, nominal=self.nominal)
+            position, _ = rolled.tcp_pose(self.home)
+            self.home = rolled.converge(self.home, position, 0.0)
         self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home)
         self.gripper = GripperModel.from_config(cfg.gripper)
         self.params = RewardParams(**task.reward)
@@ -130,8 +130,8 @@ class OpenTask:
         self._front_q, self._front_v = m.jnt_qposadr[front.id], m.jnt_dofadr[front.id]
         self._tcp, self._handle = m.site(TCP_SITE).id, m.site(HANDLE_SITE).id
         self._base = m.body("link0").id
-        parts = [i for i in range(m.ngeom) if m.geom(i).name.startswith("cabinet/part_")]
         self._part = m.body(PART_BODY).id
+        parts = np.flatnonzero(m.geom_bodyid == self._part).tolist()
         self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
