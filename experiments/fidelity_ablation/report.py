@@ -300,7 +300,11 @@ def plot_strategies(totals, variants, categories, path: Path) -> None:
     """Stacked strategy fractions: one bar per collision source, a panel per category + all."""
     panels = [c for c in [*categories, "all"] if any((v, c) in totals for v in variants)]
     fig, axes = plt.subplots(
-        1, len(panels), figsize=(3.2 * len(panels), 3.4), squeeze=False, sharey=True
+        1,
+        len(panels),
+        figsize=(1.1 * len(variants) * len(panels) + 1, 4.0),
+        squeeze=False,
+        sharey=True,
     )
     for ax, category in zip(axes[0], panels, strict=True):
         bottom = np.zeros(len(variants))
@@ -308,7 +312,8 @@ def plot_strategies(totals, variants, categories, path: Path) -> None:
             heights = np.array([totals.get((v, category), {}).get(s, 0.0) for v in variants])
             ax.bar(np.arange(len(variants)), heights, 0.7, bottom=bottom, color=colour, label=s)
             bottom += heights
-        ax.set_xticks(np.arange(len(variants)), variants, fontsize=8)
+        labels = [v.replace(" (", "\n(").replace(", ", ",\n") for v in variants]
+        ax.set_xticks(np.arange(len(variants)), labels, fontsize=7)
         ax.set(ylim=(0, 1.02), title=category)
     axes[0, 0].set_ylabel("fraction of episodes")
     axes[0, -1].legend(fontsize=8, loc="upper right")
