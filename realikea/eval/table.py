@@ -137,7 +137,8 @@ def run_table(overrides: list[str]) -> int:
             cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
             with EnvPool.from_config(cfg) as pool:
                 for policy in policies:
-                    print(f"{policy} on {category} drawers, {resistance}", flush=True)
+                    where = f"{category} ({table.kind or 'every kind'})"
+                    print(f"{policy} on {where}, {resistance}", flush=True)
                     result = run_episodes(pool, made[policy], episodes)
                     rows.append(cell_row(cfg, policy, category, resistance, result))
                     print(
