@@ -10,18 +10,25 @@ from contextlib import contextmanager
 from pathlib import Path
 
 
-def atomic_write_text(path: Path, text: str) -> None:
-    """Write a text file via a temporary sibling and `os.replace`."""
+@contextmanager
+def atomic_path(path: Path):
+    """Yield a temporary sibling of `path` (same suffix, so writers pick the same format) that
+    replaces `path` only if the block succeeds; it is removed either way."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
+    os.close(fd)
     try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
+        yield Path(tmp)
         os.chmod(tmp, 0o644)  # mkstemp creates owner-only files
         os.replace(tmp, path)
-    except BaseException:
+    finally:
         Path(tmp).unlink(missing_ok=True)
-        raise
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write a text file via a temporary sibling and `os.replace`."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
 
 
 @contextmanager

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import mujoco
@@ -14,6 +12,7 @@ from PIL import Image, ImageDraw
 from tqdm import tqdm
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library, ensure_part
+from realikea.assets.cache import atomic_path
 from realikea.assets.catalog import Catalog, Configuration
 from realikea.config import repo_path
 
@@ -105,13 +104,6 @@ def render_gallery(cfg: DictConfig, out: Path, n_configs: int = 12) -> Path:
     for i, tile in enumerate(tiles):
         sheet.paste(tile, ((i % COLUMNS) * TILE, (i // COLUMNS) * TILE))
     out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".png")
-    os.close(fd)
-    try:
-        sheet.save(tmp)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, out)
-    finally:
-        Path(tmp).unlink(missing_ok=True)
+    with atomic_path(out) as tmp:
+        sheet.save(tmp, format="PNG")
     return out

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.assets.cache import atomic_write_text
+from realikea.assets.cache import atomic_path, atomic_write_text
 from realikea.config import load_config, repo_path
 from realikea.errors import RealIkeaError
 from realikea.eval.table import to_csv
@@ -64,11 +64,9 @@ def plot(rows: list[dict], best: dict, path: Path) -> None:
     axes[0].legend(fontsize=8)
     fig.suptitle(f"checkpoint sweep: most robust = iteration {best['iteration']}", fontsize=10)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    fig.savefig(tmp, dpi=120)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120, format="png")
     plt.close(fig)
-    tmp.replace(path)
 
 
 def run_sweep(overrides: list[str]) -> int:

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import imageio.v2 as imageio
 import mujoco
 import numpy as np
 
+from realikea.assets.cache import atomic_path
 from realikea.tasks.open_task import OpenTask
 
 FPS = 10  # one frame per control step (the policy runs at 10 Hz)
@@ -32,17 +31,12 @@ def episode_frames(task: OpenTask, policy, renderer: mujoco.Renderer) -> tuple[l
 def write_mp4(frames: list, path: Path) -> Path:
     """Write frames to an MP4 atomically (no half-written file on failure)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".mp4")
-    os.close(fd)
-    try:
-        with imageio.get_writer(tmp, fps=FPS, codec="libx264", quality=7) as writer:
-            for frame in frames:
-                writer.append_data(frame)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    finally:
-        Path(tmp).unlink(missing_ok=True)
+    with (
+        atomic_path(path) as tmp,
+        imageio.get_writer(tmp, format="FFMPEG", fps=FPS, codec="libx264", quality=7) as writer,
+    ):
+        for frame in frames:
+            writer.append_data(frame)
     return path
 
 
@@ -50,9 +44,8 @@ def write_strip(frames: list, path: Path, count: int = 4) -> Path:
     """`count` frames spread over an episode side by side in one PNG (for READMEs)."""
     picks = np.linspace(0, len(frames) - 1, count).round().astype(int)
     strip = np.concatenate([frames[i] for i in picks], axis=1)
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    imageio.imwrite(tmp, strip)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        imageio.imwrite(tmp, strip, format="PNG")
     return path
 
 
