@@ -102,13 +102,15 @@ class ContactMonitor:
             out.append((normal, friction, float(con.friction[0])))
         return out
 
-    def record(self, log: ContactLog, data, u: np.ndarray, rate: float, p: ClassifierParams):
-        """Add the current state to the episode's log if the gripper is pulling the front open."""
+    def record(self, log: ContactLog, data, direction, rate: float, p: ClassifierParams):
+        """Add the current state to the episode's log if the gripper is pulling the front open;
+        `direction()` gives the opening direction u, computed only when it is needed."""
         if rate < p.min_opening_rate:
             return
         contacts = self.forces(data)
         if not contacts:
             return
+        u = direction()
         normal = sum(float(n @ u) for n, _, _ in contacts)
         friction = sum(float(f @ u) for _, f, _ in contacts)
         pull = normal + friction

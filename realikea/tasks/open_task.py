@@ -257,7 +257,7 @@ class OpenTask:
             mujoco.mj_step(self.model, self.data, nstep=every)
             rate = float(self.data.qvel[self._front_v])
             self.contact_monitor.record(
-                self.state.contacts, self.data, self.pull_direction(), rate, self.classifier
+                self.state.contacts, self.data, self.pull_direction, rate, self.classifier
             )
         if self.decimation % every:
             mujoco.mj_step(self.model, self.data, nstep=self.decimation % every)
