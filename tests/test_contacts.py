@@ -9,7 +9,7 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.policies.heuristic_pull import HeuristicPull
 from realikea.sim.ik import tcp_pitch
-from realikea.tasks.contacts import ClassifierParams, ContactLog, strategy
+from realikea.tasks.contacts import SUMMARY_KEYS, ClassifierParams, ContactLog, strategy
 from realikea.tasks.open_task import OpenTask
 
 PARAMS = ClassifierParams(
@@ -29,6 +29,7 @@ def test_labels_follow_the_force_that_carries_the_pull():
 def test_summary_shares_and_means():
     log = ContactLog(samples=20, normal=30.0, friction=90.0, grip=400.0)
     summary = log.summary("two_point", PARAMS, period=0.01)
+    assert tuple(summary) == SUMMARY_KEYS  # the pool passes exactly these on
     assert summary["friction_share"] == pytest.approx(0.75)
     assert summary["pull_seconds"] == pytest.approx(0.2)
     assert summary["grip_force"] == pytest.approx(20.0)

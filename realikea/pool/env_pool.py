@@ -47,6 +47,7 @@ from omegaconf import DictConfig, OmegaConf
 from realikea.errors import RealIkeaError
 from realikea.spawn import spawn_context
 from realikea.tasks import observations
+from realikea.tasks.contacts import SUMMARY_KEYS
 from realikea.tasks.open_task import ACTION_SIZE, OpenTask
 
 OBS_SIZE = observations.SIZE
@@ -241,10 +242,7 @@ class _EnvSlice:
         return ended
 
 
-_EPISODE_KEYS = (
-    "outcome", "termination", "opening", "strategy", "pull_seconds", "pull_normal", "pull_friction",
-    "friction_share", "grip_force", "normal_angle_deg", "peak_pull", "peak_slip_ratio",
-)  # fmt: skip
+_EPISODE_KEYS = ("outcome", "termination", "opening", *SUMMARY_KEYS)
 
 
 def _worker_main(conn, buffer, num_envs, num_workers, cfg, paths, seeds, env_ids, worker, it, prof):

@@ -16,6 +16,11 @@ import mujoco
 import numpy as np
 
 STRATEGIES = ("hook", "lever", "pinch", "none")
+# what `ContactLog.summary` reports per episode
+SUMMARY_KEYS = (
+    "strategy", "pull_seconds", "pull_normal", "pull_friction", "friction_share", "grip_force",
+    "normal_angle_deg", "peak_pull", "peak_slip_ratio",
+)  # fmt: skip
 
 
 @dataclass(frozen=True)
