@@ -13,17 +13,25 @@ from realikea.tasks.contacts import SUMMARY_KEYS, ClassifierParams, ContactLog, 
 from realikea.tasks.open_task import OpenTask
 
 PARAMS = ClassifierParams(
-    min_opening_rate=0.01, min_pull=0.2, min_samples=10, sample_substeps=5, friction_share=0.5
+    min_opening_rate=0.01,
+    min_pull=0.2,
+    min_samples=10,
+    sample_substeps=5,
+    friction_share=0.5,
+    front_share=0.5,
 )
 
 
 def test_labels_follow_the_force_that_carries_the_pull():
-    assert strategy(50, 0.9, "two_point", PARAMS) == "pinch"
-    assert strategy(50, 0.9, "knob", PARAMS) == "pinch"
-    assert strategy(50, 0.1, "two_point", PARAMS) == "hook"
-    assert strategy(50, 0.1, "finger_pull", PARAMS) == "hook"
-    assert strategy(50, 0.1, "knob", PARAMS) == "lever"
-    assert strategy(9, 0.1, "two_point", PARAMS) == "none"  # too short a pulling phase
+    assert strategy(50, 0.9, 0.0, "two_point", PARAMS) == "pinch"
+    assert strategy(50, 0.9, 0.0, "knob", PARAMS) == "pinch"
+    assert strategy(50, 0.1, 0.0, "two_point", PARAMS) == "hook"
+    assert strategy(50, 0.1, 0.0, "finger_pull", PARAMS) == "hook"
+    assert strategy(50, 0.1, 0.0, "knob", PARAMS) == "lever"
+    assert strategy(50, 0.1, 0.4, "knob", PARAMS) == "lever"  # the part still carries most
+    assert strategy(50, 0.1, 0.8, "knob", PARAMS) == "front_hook"  # over the panel's edge
+    assert strategy(50, 0.9, 0.8, "finger_pull", PARAMS) == "front_pinch"  # squeezing the panel
+    assert strategy(9, 0.1, 0.0, "two_point", PARAMS) == "none"  # too short a pulling phase
 
 
 def test_summary_shares_and_means():
@@ -34,6 +42,10 @@ def test_summary_shares_and_means():
     assert summary["pull_seconds"] == pytest.approx(0.2)
     assert summary["grip_force"] == pytest.approx(20.0)
     assert summary["strategy"] == "pinch"
+    assert summary["front_share"] == 0.0
+    panel = ContactLog(samples=20, normal=30.0, friction=10.0, front_normal=25.0, front_friction=5)
+    assert panel.summary("finger_pull", PARAMS, 0.01)["front_share"] == pytest.approx(0.75)
+    assert panel.summary("finger_pull", PARAMS, 0.01)["strategy"] == "front_hook"
     # friction pulling backwards does not make the normal forces' share larger than all
     assert ContactLog(samples=20, normal=30.0, friction=-5.0).summary("knob", PARAMS, 0.01)[
         "friction_share"
@@ -109,3 +121,52 @@ def test_logging_contacts_does_not_change_the_physics(library):
         states = [task.step(rng.uniform(-1, 1, 5)).obs for _ in range(10)]
         trajectories.append(np.array(states))
     np.testing.assert_array_equal(trajectories[0], trajectories[1])
+
+
+_PUSHER = """
+<mujoco>
+  <option timestep="0.002" gravity="0 0 0"/>
+  <worldbody>
+    <body name="front">
+      <joint name="slide" type="slide" axis="1 0 0" damping="5"/>
+      <geom name="panel" type="box" size="0.01 0.2 0.2" pos="0 0 0"/>
+      <body name="part" pos="-0.03 0 0.1">
+        <geom name="knob" type="sphere" size="0.015"/>
+      </body>
+    </body>
+    <body name="hand" pos="-0.05 0 {z}">
+      <joint name="push" type="slide" axis="1 0 0"/>
+      <geom name="pad" type="box" size="0.02 0.02 0.02"/>
+    </body>
+  </worldbody>
+  <actuator><motor joint="push" gear="20"/></actuator>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize(
+    ("z", "front_share", "label"), [(0.1, 0.0, "lever"), (-0.1, 1.0, "front_hook")]
+)
+def test_monitor_separates_forces_on_the_part_from_the_panel(z, front_share, label):
+    """A pad pushes the front open along +x, level with the knob (a force on the part) or below
+    it (on the panel): the pull is credited to where the pad touches."""
+    import mujoco
+
+    from realikea.tasks.contacts import ContactMonitor, subtree_geoms
+
+    model = mujoco.MjModel.from_xml_string(_PUSHER.format(z=z))
+    data = mujoco.MjData(model)
+    panel, knob = model.geom("panel").id, model.geom("knob").id
+    assert sorted(subtree_geoms(model, model.body("front").id)) == [panel, knob]
+    monitor = ContactMonitor(model, [model.body("hand").id], [knob], [panel])
+    log = ContactLog()
+    data.ctrl[0] = 1.0
+    u = np.array([1.0, 0.0, 0.0])
+    for _ in range(300):
+        mujoco.mj_step(model, data, nstep=5)
+        monitor.record(log, data, lambda: u, float(data.qvel[0]), PARAMS)
+    summary = log.summary("knob", PARAMS, 0.01)
+    assert log.samples > 100 and data.qpos[0] > 0.1  # pushed open
+    assert summary["front_share"] == pytest.approx(front_share)
+    assert summary["friction_share"] == pytest.approx(0.0, abs=0.01)  # a push: normal force
+    assert summary["strategy"] == label

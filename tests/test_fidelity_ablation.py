@@ -19,6 +19,7 @@ from omegaconf import OmegaConf
 
 from realikea.assets.catalog import REPO_ROOT
 from realikea.config import CONF_DIR, load_config
+from realikea.tasks.contacts import STRATEGIES
 from realikea.training.eval_after import eval_overrides
 
 TINY = [
@@ -118,12 +119,33 @@ def test_tiny_run_writes_eval_json_under_three_modes(sweep):
     for mode, entry in report["modes"].items():
         assert entry["episodes"] == 2
         assert entry["fail"] + entry["partial"] + entry["success"] == pytest.approx(1.0)
-        assert set(entry["strategies"]) == {"hook", "lever", "pinch", "none"}
+        assert tuple(entry["strategies"]) == STRATEGIES
         assert sum(entry["strategies"].values()) == pytest.approx(1.0)
         assert "friction_share" in entry["contacts"]
         assert entry["dr"] == "randomized" and entry["env_seed"] == 1000
         assert entry["command"].startswith("realikea eval ")
         assert f"resistance={mode}" in entry["command"]
+
+
+def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys):
+    from realikea.cli import main
+
+    source, run = sweep / "hull_smooth_two_point_franka_hand_s0", tmp_path / "run"
+    shutil.copytree(source, run)
+    old = json.loads((run / "eval.json").read_text())
+    stale = {"checkpoint": "x", "train_seconds": old["train_seconds"], "modes": {}}
+    (run / "eval.json").write_text(json.dumps(stale))  # as if from an older evaluation
+    assert main(["eval", "rerun", f"run={run}"]) == 0
+    new = json.loads((run / "eval.json").read_text())
+    assert new["checkpoint"] == "model_1.pt" and new["train_seconds"] == old["train_seconds"]
+    assert list(new["modes"]) == ["smooth", "normal", "high"]
+    for mode, entry in new["modes"].items():  # the same command gives the same episodes
+        same = old["modes"][mode]["command"].replace(str(source), str(run))
+        assert entry["command"] == same
+        assert entry["strategies"] == old["modes"][mode]["strategies"]
+        assert entry["success"] == old["modes"][mode]["success"]
+    assert main(["eval", "rerun", f"run={tmp_path}"]) == 2  # not a training run
+    assert "not a training run" in capsys.readouterr().err
 
 
 def fake_coacd_run(run, target):
@@ -157,7 +179,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
-    assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.25 | 0.30 |" in text
+    assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
     assert "eval_hook_success.mp4" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):

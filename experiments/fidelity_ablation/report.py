@@ -25,6 +25,8 @@ import matplotlib
 import numpy as np
 from omegaconf import OmegaConf
 
+from realikea.eval.table import CONTACT_STATS
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -35,8 +37,14 @@ HERE = Path(__file__).resolve().parent
 MODES = ("smooth", "normal", "high")
 OUTCOMES = ("fail", "partial", "success")
 OUTCOME_COLOURS = {"fail": "tab:red", "partial": "tab:orange", "success": "tab:green"}
-STRATEGY_COLOURS = {"pinch": "tab:blue", "hook": "tab:purple", "lever": "tab:olive", "none": "0.75"}
-CONTACT_STATS = ("friction_share", "peak_pull", "grip_force", "peak_slip_ratio", "normal_angle_deg")
+STRATEGY_COLOURS = {
+    "pinch": "tab:blue",
+    "hook": "tab:purple",
+    "lever": "tab:olive",
+    "front_pinch": "tab:cyan",
+    "front_hook": "tab:pink",
+    "none": "0.75",
+}
 
 
 def find_runs(roots: list[Path]) -> list[dict]:
@@ -192,26 +200,34 @@ def strategy_lines(cells, totals, variants, categories) -> list[str]:
         "## Strategies by collision source",
         "",
         "Fraction of evaluation episodes per classifier label (realikea/tasks/contacts.py), "
-        "averaged over training resistances, evaluation modes and seeds; friction share = mean "
-        "share of the pull carried by friction in episodes that pulled.",
+        "averaged over training resistances, evaluation modes and seeds; friction share and "
+        "front share = mean share of the pull carried by friction and by contacts on the front "
+        "off the part (`front_*` labels) in episodes that pulled.",
         "",
-        "| collision | category | " + " | ".join(STRATEGY_COLOURS) + " | friction share |",
-        "|---|---|" + "---:|" * (len(STRATEGY_COLOURS) + 1),
+        "| collision | category | "
+        + " | ".join(STRATEGY_COLOURS)
+        + " | friction share | front share |",
+        "|---|---|" + "---:|" * (len(STRATEGY_COLOURS) + 2),
     ]
+
+    def mean_stat(v, category, stat):
+        values = [
+            m[stat]
+            for (cv, _, cc), modes in cells.items()
+            if cv == v and category in (cc, "all")
+            for m in modes.values()
+            if m.get(stat) is not None
+        ]
+        return float(np.mean(values)) if values else None
+
     for v in variants:
         for category in [*categories, "all"]:
             if (v, category) not in totals:
                 continue
-            shares = [
-                m["friction_share"]
-                for (cv, _, cc), modes in cells.items()
-                if cv == v and category in (cc, "all")
-                for m in modes.values()
-                if m.get("friction_share") is not None
-            ]
-            share = float(np.mean(shares)) if shares else None
             fractions = " | ".join(_fmt(totals[v, category][s]) for s in STRATEGY_COLOURS)
-            lines.append(f"| {v} | {category} | {fractions} | {_fmt(share)} |")
+            friction = _fmt(mean_stat(v, category, "friction_share"))
+            front = _fmt(mean_stat(v, category, "front_share"))
+            lines.append(f"| {v} | {category} | {fractions} | {friction} | {front} |")
     return lines
 
 

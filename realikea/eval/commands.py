@@ -1,6 +1,7 @@
-"""`realikea eval [table|sweep] [overrides]`: a policy over episodes, Fail/Partial/Success and
-a JSON line; `table` runs the Table 2 grid (realikea/eval/table.py), `sweep run=DIR` every
-checkpoint of a run (realikea/eval/sweep.py)."""
+"""`realikea eval [table|sweep|rerun] [overrides]`: a policy over episodes, Fail/Partial/Success
+and a JSON line; `table` runs the Table 2 grid (realikea/eval/table.py), `sweep run=DIR` every
+checkpoint of a run (realikea/eval/sweep.py), `rerun run=DIR ...` a run's end-of-training
+evaluation again (realikea/training/eval_after.py)."""
 
 from __future__ import annotations
 
@@ -21,14 +22,15 @@ def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "overrides",
         nargs="*",
-        help="optionally `table` or `sweep` first, then Hydra overrides, e.g. policy=checkpoint "
-        "policy.path=RUN/model_500.pt asset=two_point resistance=high episodes=50 video=true",
+        help="optionally `table`, `sweep` or `rerun` first, then Hydra overrides, e.g. "
+        "policy=checkpoint policy.path=RUN/model_500.pt asset=two_point resistance=high "
+        "episodes=50 video=true",
     )
     parser.set_defaults(run=dispatch)
 
 
 def dispatch(args: argparse.Namespace) -> int:
-    """`eval table ...`, `eval sweep ...` or a plain `eval ...`."""
+    """`eval table ...`, `eval sweep ...`, `eval rerun ...` or a plain `eval ...`."""
     if args.overrides and args.overrides[0] == "table":
         from realikea.eval.table import run_table
 
@@ -37,6 +39,10 @@ def dispatch(args: argparse.Namespace) -> int:
         from realikea.eval.sweep import run_sweep
 
         return run_sweep(args.overrides[1:])
+    if args.overrides and args.overrides[0] == "rerun":
+        from realikea.training.eval_after import rerun
+
+        return rerun(args.overrides[1:])
     return run_eval(args)
 
 

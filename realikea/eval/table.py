@@ -21,7 +21,10 @@ from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.outcome import OUTCOMES
 
 # per-episode contact statistics averaged over a cell's episodes that had a pulling phase
-CONTACT_STATS = ("friction_share", "peak_pull", "grip_force", "peak_slip_ratio", "normal_angle_deg")
+CONTACT_STATS = (
+    "friction_share", "front_share", "peak_pull", "grip_force", "peak_slip_ratio",
+    "normal_angle_deg",
+)  # fmt: skip
 TITLES = {"knob": "Knobs", "finger_pull": "Finger-pull handles", "two_point": "Two-point handles"}
 
 
@@ -85,20 +88,22 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
         "## Strategies and slip statistics per cell",
         "",
         "Strategy: fraction of episodes per classifier label. Friction share: fraction of the "
-        "pulling force carried by friction; peak pull (N) and the slip ratio at that instant "
-        "(friction pull / (mu x sum of normal forces); 1 = sliding); grip: half the summed "
+        "pulling force carried by friction; front share: fraction carried by contacts on the "
+        "front off the part (its panel and edges); peak pull (N) and the slip ratio at that "
+        "instant (friction pull / (mu x sum of normal forces); 1 = sliding); grip: half the summed "
         "normal force (N); normal angle: force-weighted angle between contact normals and the "
         "opening direction (deg). Averages over the episodes with a pulling phase.",
         "",
         "| policy | category | resistance | S | " + " | ".join(STRATEGIES)
-        + " | friction share | peak pull | slip ratio | grip | normal angle |",
-        "|---|---|---|---|" + "---|" * (len(STRATEGIES) + 5),
+        + " | friction share | front share | peak pull | slip ratio | grip | normal angle |",
+        "|---|---|---|---|" + "---|" * (len(STRATEGIES) + 6),
     ]  # fmt: skip
     for r in rows:
         strategies = " | ".join(f"{r[f'strategy_{s}']:.2f}" for s in STRATEGIES)
         lines.append(
             f"| {r['policy']} | {r['category']} | {r['resistance']} | {r['success']:.2f} | "
-            f"{strategies} | {r['friction_share']:.2f} | {r['peak_pull']:.1f} | "
+            f"{strategies} | {r['friction_share']:.2f} | {r['front_share']:.2f} | "
+            f"{r['peak_pull']:.1f} | "
             f"{r['peak_slip_ratio']:.2f} | {r['grip_force']:.1f} | {r['normal_angle_deg']:.0f} |"
         )
     return "\n".join(lines) + "\n"

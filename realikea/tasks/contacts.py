@@ -1,10 +1,14 @@
-"""Which force opens the front: the gripper's contact forces on the part, logged per control step.
+"""Which force opens the front: the gripper's contact forces on the moving front, logged per
+control step.
 
-During the pulling phase (the front moving open while the gripper pushes the part along the
-opening direction u), each gripper-part contact's force on the part splits into its normal part
+During the pulling phase (the front moving open while the gripper pushes it along the opening
+direction u), each gripper contact's force on the moving front splits into its normal part
 (n f_n) and its friction part (the tangential components). Their projections on u say what
 carries the pull: normal forces (form closure: a finger behind a bar or under a lip, a wedge
-behind a knob) or friction (a pinch, force closure). `strategy` names the episode from them.
+behind a knob) or friction (a pinch, force closure). Contacts on the part and on the rest of
+the front (the panel, its edges) are summed apart, so an opening through the panel's edge is
+named as such (`front_hook`, `front_pinch`) rather than credited to the part.
+`strategy` names the episode from these sums.
 """
 
 from __future__ import annotations
@@ -15,11 +19,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-STRATEGIES = ("hook", "lever", "pinch", "none")
+STRATEGIES = ("hook", "lever", "pinch", "front_hook", "front_pinch", "none")
 # what `ContactLog.summary` reports per episode
 SUMMARY_KEYS = (
-    "strategy", "pull_seconds", "pull_normal", "pull_friction", "friction_share", "grip_force",
-    "normal_angle_deg", "peak_pull", "peak_slip_ratio",
+    "strategy", "pull_seconds", "pull_normal", "pull_friction", "friction_share", "front_share",
+    "grip_force", "normal_angle_deg", "peak_pull", "peak_slip_ratio",
 )  # fmt: skip
 
 
@@ -32,15 +36,19 @@ class ClassifierParams:
     min_samples: int  # pulling samples an episode needs before it gets a label other than none
     sample_substeps: int  # physics steps between two samples of the contact forces
     friction_share: float  # above this share of the pull carried by friction: pinch
+    front_share: float  # above this share of the pull carried off the part: front_hook/pinch
 
 
 @dataclass
 class ContactLog:
-    """Per-episode sums over the pulling samples of the gripper's forces on the part."""
+    """Per-episode sums over the pulling samples of the gripper's forces on the moving front
+    (part and panel; `front_*` the panel's share of them)."""
 
     samples: int = 0
     normal: float = 0.0  # N along u carried by contact normal forces, summed over samples
     friction: float = 0.0  # N along u carried by friction forces
+    front_normal: float = 0.0  # N along u carried by normal forces on the front, off the part
+    front_friction: float = 0.0  # N along u carried by friction forces on the front, off the part
     grip: float = 0.0  # N of squeeze: half the sum of normal force magnitudes
     angle: float = 0.0  # rad*N: force-weighted angle between contact normal and u
     weight: float = 0.0  # N: total force weight of `angle`
@@ -53,12 +61,15 @@ class ContactLog:
         n = max(self.samples, 1)
         carried = max(self.normal, 0.0) + max(self.friction, 0.0)
         share = max(self.friction, 0.0) / carried if carried > 0 else 0.0
+        off_part = max(self.front_normal, 0.0) + max(self.front_friction, 0.0)
+        front = min(off_part / carried, 1.0) if carried > 0 else 0.0
         return {
-            "strategy": strategy(self.samples, share, category, params),
+            "strategy": strategy(self.samples, share, front, category, params),
             "pull_seconds": self.samples * period,
             "pull_normal": self.normal / n,
             "pull_friction": self.friction / n,
             "friction_share": share,
+            "front_share": front,
             "grip_force": self.grip / n,
             "normal_angle_deg": math.degrees(self.angle / self.weight) if self.weight else 0.0,
             "peak_pull": self.peak_pull,
@@ -66,27 +77,51 @@ class ContactLog:
         }
 
 
-def strategy(samples: int, friction_share: float, category: str, params: ClassifierParams) -> str:
-    """hook / lever (form closure on a bar or lip / on a knob), pinch (friction), or none."""
+def strategy(
+    samples: int, friction_share: float, front_share: float, category: str, params: ClassifierParams
+) -> str:
+    """hook / lever (form closure on a bar or lip / on a knob), pinch (friction), front_hook /
+    front_pinch (the same through the front off the part: over its edge, squeezing it), or none."""
     if samples < params.min_samples:
         return "none"
-    if friction_share > params.friction_share:
+    pinch = friction_share > params.friction_share
+    if front_share > params.front_share:
+        return "front_pinch" if pinch else "front_hook"
+    if pinch:
         return "pinch"
     return "lever" if category == "knob" else "hook"
 
 
-class ContactMonitor:
-    """Reads the gripper-part contact forces of one scene after each control step."""
+def subtree_geoms(model: mujoco.MjModel, body: int) -> list[int]:
+    """The geoms of `body` and of every body below it (what moves with a front's joint)."""
+    inside = np.zeros(model.nbody, bool)
+    inside[body] = True
+    for b in range(body + 1, model.nbody):  # MuJoCo numbers a parent before its children
+        inside[b] = inside[model.body_parentid[b]]
+    return np.flatnonzero(inside[model.geom_bodyid]).tolist()
 
-    def __init__(self, model: mujoco.MjModel, gripper_bodies: list[int], part_geoms: list[int]):
+
+class ContactMonitor:
+    """Reads the gripper's contact forces on the moving front of one scene between substeps."""
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        gripper_bodies: list[int],
+        part_geoms: list[int],
+        front_geoms: list[int],
+    ):
         self.model = model
         self.gripper_bodies = np.asarray(gripper_bodies)
         self.part = np.zeros(model.ngeom, bool)
         self.part[part_geoms] = True
+        self.moving = self.part.copy()
+        self.moving[front_geoms] = True
         self._force = np.zeros(6)
 
-    def forces(self, data: mujoco.MjData) -> list[tuple[np.ndarray, np.ndarray, float]]:
-        """(normal force, friction force, mu) on the part of every gripper-part contact."""
+    def forces(self, data: mujoco.MjData) -> list[tuple[np.ndarray, np.ndarray, float, bool]]:
+        """(normal force, friction force, mu, on the part) on the front of every gripper contact
+        with the moving front."""
         out = []
         ncon = data.ncon
         if ncon == 0:
@@ -94,17 +129,19 @@ class ContactMonitor:
         geoms = data.contact.geom[:ncon]
         bodies = self.model.geom_bodyid[geoms]
         grip = np.isin(bodies, self.gripper_bodies)
-        part = self.part[geoms]
-        for k in np.flatnonzero((grip[:, 0] & part[:, 1]) | (grip[:, 1] & part[:, 0])):
+        moving = self.moving[geoms]
+        for k in np.flatnonzero((grip[:, 0] & moving[:, 1]) | (grip[:, 1] & moving[:, 0])):
             con = data.contact[k]
             if con.efc_address < 0:  # excluded or inactive
                 continue
             mujoco.mj_contactForce(self.model, data, int(k), self._force)
             frame = con.frame.reshape(3, 3)
-            sign = 1.0 if part[k, 1] else -1.0  # the force acts on geom2 along +normal
+            second = bool(moving[k, 1])
+            sign = 1.0 if second else -1.0  # the force acts on geom2 along +normal
             normal = sign * self._force[0] * frame[0]
             friction = sign * (self._force[1] * frame[1] + self._force[2] * frame[2])
-            out.append((normal, friction, float(con.friction[0])))
+            on_part = bool(self.part[geoms[k, 1 if second else 0]])
+            out.append((normal, friction, float(con.friction[0]), on_part))
         return out
 
     def record(self, log: ContactLog, data, direction, rate: float, p: ClassifierParams):
@@ -116,22 +153,24 @@ class ContactMonitor:
         if not contacts:
             return
         u = direction()
-        normal = sum(float(n @ u) for n, _, _ in contacts)
-        friction = sum(float(f @ u) for _, f, _ in contacts)
+        along = [(float(n @ u), float(f @ u), part) for n, f, _, part in contacts]
+        normal = sum(n for n, _, _ in along)
+        friction = sum(f for _, f, _ in along)
         pull = normal + friction
         if pull < p.min_pull:
             return
-        magnitudes = [float(np.linalg.norm(n)) for n, _, _ in contacts]
+        magnitudes = [float(np.linalg.norm(n)) for n, _, _, _ in contacts]
         log.samples += 1
         log.normal += normal
         log.friction += friction
+        log.front_normal += sum(n for n, _, part in along if not part)
+        log.front_friction += sum(f for _, f, part in along if not part)
         log.grip += 0.5 * sum(magnitudes)
-        for (n, _, _), m in zip(contacts, magnitudes, strict=True):
+        for (n_along, _, _), m in zip(along, magnitudes, strict=True):
             if m > 0:
-                cos = abs(float(n @ u)) / m
-                log.angle += m * math.acos(min(cos, 1.0))
+                log.angle += m * math.acos(min(abs(n_along) / m, 1.0))
                 log.weight += m
         if pull > log.peak_pull:
-            capacity = sum(mu * m for (_, _, mu), m in zip(contacts, magnitudes, strict=True))
+            capacity = sum(mu * m for (_, _, mu, _), m in zip(contacts, magnitudes, strict=True))
             log.peak_pull = pull
             log.peak_slip_ratio = max(friction, 0.0) / capacity if capacity > 0 else 0.0

@@ -32,7 +32,7 @@ from realikea.sim.scene import (
     reset_home,
 )
 from realikea.tasks import observations
-from realikea.tasks.contacts import ClassifierParams, ContactLog, ContactMonitor
+from realikea.tasks.contacts import ClassifierParams, ContactLog, ContactMonitor, subtree_geoms
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
@@ -132,6 +132,7 @@ class OpenTask:
         self._base = m.body("link0").id
         self._part = m.body(PART_BODY).id
         parts = np.flatnonzero(m.geom_bodyid == self._part).tolist()
+        panel = [g for g in subtree_geoms(m, m.jnt_bodyid[front.id]) if g not in parts]
         self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
@@ -142,7 +143,7 @@ class OpenTask:
         )
         gripper_bodies = [m.body(b).id for b in (HAND_BODY, *FINGER_BODIES)]
         self.contact_monitor = (
-            ContactMonitor(m, gripper_bodies, parts) if bool(contacts.log) else None
+            ContactMonitor(m, gripper_bodies, parts, panel) if bool(contacts.log) else None
         )
 
     # --- reading the scene ----------------------------------------------------------------

@@ -1,6 +1,9 @@
 """End-of-training evaluation (`train.eval_after`): the run's last checkpoint under several
 resistance modes through `realikea eval`'s own code, written to `<run>/eval.json`.
 
+`realikea eval rerun run=DIR [run=DIR ...]` repeats it for finished runs (after a change to the
+evaluation, e.g. the classifier), from the run's own config and command line.
+
 Each mode is exactly `realikea eval policy=checkpoint policy.path=<checkpoint> <the run's
 command-line overrides> resistance=<mode> episodes=<n> [dr=...] [env.seed=...]` (the command
 is stored beside its result, so any entry can be re-run by hand).
@@ -93,3 +96,35 @@ def evaluate_run(
     report["spec"] = OmegaConf.to_container(spec, resolve=True)
     atomic_write_text(run_dir / EVAL_FILE, json.dumps(report, indent=2) + "\n")
     return report
+
+
+def rerun(overrides: list[str]) -> int:
+    """`realikea eval rerun run=DIR ...`: evaluate each run's last checkpoint again with the
+    run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept)."""
+    from realikea.config import repo_path
+    from realikea.errors import RealIkeaError
+    from realikea.eval.sweep import checkpoints
+
+    runs = [repo_path(o.split("=", 1)[1]) for o in overrides if o.startswith("run=")]
+    unknown = [o for o in overrides if not o.startswith("run=")]
+    if not runs or unknown:
+        raise RealIkeaError(f"realikea eval rerun takes only run=DIR arguments, got {overrides}")
+    for run in runs:
+        hydra = run / ".hydra"
+        if not (hydra / "config.yaml").is_file() or not (hydra / "overrides.yaml").is_file():
+            raise RealIkeaError(f"{run}: not a training run (no .hydra/{{config,overrides}}.yaml)")
+        spec = OmegaConf.load(hydra / "config.yaml").train.get("eval_after")
+        if not spec:
+            raise RealIkeaError(f"{run}: the run has no train.eval_after to repeat")
+        found = checkpoints(run)
+        if not found:
+            raise RealIkeaError(f"{run}: no model_<iteration>.pt checkpoint")
+        previous = run / EVAL_FILE
+        seconds = None
+        if previous.is_file():
+            seconds = json.loads(previous.read_text()).get("train_seconds")
+        checkpoint = found[-1][1]
+        print(f"eval rerun {run.name}: {checkpoint.name}", flush=True)
+        run_overrides = list(OmegaConf.load(hydra / "overrides.yaml"))
+        evaluate_run(spec, run, checkpoint, run_overrides, seconds)
+    return 0
