@@ -7,8 +7,9 @@ ROOT defaults to outputs/fidelity_ablation (all sweeps in it); runs are found at
 Cells are (collision source, training resistance, category) per gripper/contact preset;
 seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation),
 success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` runs
-`realikea eval ... video=true` once per run (under its training resistance), which writes one
-MP4 (and a PNG strip of four frames) per strategy label into RUN/videos/; the report links
+`realikea eval ... video=true episodes=N` once per run (under its training resistance, N =
+--video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames) of each
+strategy label into RUN/videos/; the report links
 every RUN/videos/*.mp4 it finds and shows its strip.
 """
 
@@ -362,17 +363,21 @@ def plot_learning_curves(by_cell, variants, resistances, categories, path: Path)
     _save(fig, path)
 
 
-def record_videos(runs: list[dict]) -> None:
-    """`realikea eval <the run's eval command> video=true` under its training resistance."""
+def record_videos(runs: list[dict], episodes: int) -> None:
+    """`realikea eval <the run's eval command> video=true episodes=N` under its training
+    resistance: the first of the N episodes with each strategy label."""
     from realikea.cli import main as cli
 
     for run in runs:
         entry = run["eval"]["modes"].get(run["resistance"]) or next(
             iter(run["eval"]["modes"].values())
         )
-        overrides = entry["command"].split()[2:]  # after "realikea eval"
+        overrides = [o for o in entry["command"].split()[2:] if not o.startswith("episodes=")]
         stem = run["dir"] / "videos" / "eval.mp4"
-        cli(["eval", *overrides, "video=true", f"video_path={stem}", "env.num_workers=0"])
+        for old in stem.parent.glob("eval_*"):  # labels of an earlier recording
+            old.unlink()
+        args = [*overrides, f"episodes={episodes}", "video=true", f"video_path={stem}"]
+        cli(["eval", *args, "env.num_workers=0"])
         run["videos"] = sorted(stem.parent.glob("*.mp4"))
 
 
@@ -441,9 +446,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("roots", nargs="*", type=Path, default=[Path("outputs/fidelity_ablation")])
     parser.add_argument("--out", type=Path, default=HERE, help="report directory")
     parser.add_argument("--record-videos", action="store_true")
+    parser.add_argument(
+        "--video-episodes", type=int, default=8, help="episodes per run for --record-videos"
+    )
     args = parser.parse_args(argv)
     if args.record_videos:
-        record_videos(find_runs(args.roots))
+        record_videos(find_runs(args.roots), args.video_episodes)
     path = report(args.roots, args.out)
     print(f"report: {path}")
     return 0
