@@ -43,9 +43,15 @@ def test_summary_shares_and_means():
     assert summary["grip_force"] == pytest.approx(20.0)
     assert summary["strategy"] == "pinch"
     assert summary["front_share"] == 0.0
-    panel = ContactLog(samples=20, normal=30.0, friction=10.0, front_normal=25.0, front_friction=5)
+    panel = ContactLog(samples=20, normal=5.0, friction=5.0, front_normal=25.0, front_friction=5)
     assert panel.summary("finger_pull", PARAMS, 0.01)["front_share"] == pytest.approx(0.75)
     assert panel.summary("finger_pull", PARAMS, 0.01)["strategy"] == "front_hook"
+    # a finger wedged between bar and panel presses the panel closed: that is no pull, and it
+    # does not turn the hook's normal force into a friction-carried pull
+    wedged = ContactLog(samples=20, normal=37.0, friction=10.0, front_normal=-31.0)
+    summary = wedged.summary("two_point", PARAMS, 0.01)
+    assert summary["friction_share"] == pytest.approx(10 / 47) and summary["front_share"] == 0.0
+    assert summary["strategy"] == "hook"
     # friction pulling backwards does not make the normal forces' share larger than all
     assert ContactLog(samples=20, normal=30.0, friction=-5.0).summary("knob", PARAMS, 0.01)[
         "friction_share"

@@ -7,7 +7,9 @@ direction u), each gripper contact's force on the moving front splits into its n
 carries the pull: normal forces (form closure: a finger behind a bar or under a lip, a wedge
 behind a knob) or friction (a pinch, force closure). Contacts on the part and on the rest of
 the front (the panel, its edges) are summed apart, so an opening through the panel's edge is
-named as such (`front_hook`, `front_pinch`) rather than credited to the part.
+named as such (`front_hook`, `front_pinch`) rather than credited to the part, and a finger
+pressing the panel closed (wedged between a bar and the panel) does not cancel the pull the
+part carries: each place counts only when it pulls.
 `strategy` names the episode from these sums.
 """
 
@@ -41,14 +43,14 @@ class ClassifierParams:
 
 @dataclass
 class ContactLog:
-    """Per-episode sums over the pulling samples of the gripper's forces on the moving front
-    (part and panel; `front_*` the panel's share of them)."""
+    """Per-episode sums over the pulling samples of the gripper's forces on the part and, apart,
+    on the rest of the moving front."""
 
     samples: int = 0
-    normal: float = 0.0  # N along u carried by contact normal forces, summed over samples
-    friction: float = 0.0  # N along u carried by friction forces
-    front_normal: float = 0.0  # N along u carried by normal forces on the front, off the part
-    front_friction: float = 0.0  # N along u carried by friction forces on the front, off the part
+    normal: float = 0.0  # N along u of the normal forces on the part, summed over samples
+    friction: float = 0.0  # N along u of the friction forces on the part
+    front_normal: float = 0.0  # N along u of the normal forces on the front, off the part
+    front_friction: float = 0.0  # N along u of the friction forces on the front, off the part
     grip: float = 0.0  # N of squeeze: half the sum of normal force magnitudes
     angle: float = 0.0  # rad*N: force-weighted angle between contact normal and u
     weight: float = 0.0  # N: total force weight of `angle`
@@ -59,10 +61,13 @@ class ContactLog:
         """The episode's contact statistics (means over pulling samples `period` s apart) and
         its strategy label."""
         n = max(self.samples, 1)
-        carried = max(self.normal, 0.0) + max(self.friction, 0.0)
-        share = max(self.friction, 0.0) / carried if carried > 0 else 0.0
+        # what pulls: forces along -u (pressing the front closed) carry nothing
+        on_part = max(self.normal, 0.0) + max(self.friction, 0.0)
         off_part = max(self.front_normal, 0.0) + max(self.front_friction, 0.0)
-        front = min(off_part / carried, 1.0) if carried > 0 else 0.0
+        carried = on_part + off_part
+        by_friction = max(self.friction, 0.0) + max(self.front_friction, 0.0)
+        share = by_friction / carried if carried > 0 else 0.0
+        front = off_part / carried if carried > 0 else 0.0
         return {
             "strategy": strategy(self.samples, share, front, category, params),
             "pull_seconds": self.samples * period,
@@ -154,17 +159,21 @@ class ContactMonitor:
             return
         u = direction()
         along = [(float(n @ u), float(f @ u), part) for n, f, _, part in contacts]
-        normal = sum(n for n, _, _ in along)
-        friction = sum(f for _, f, _ in along)
-        pull = normal + friction
+        normal = sum(n for n, _, part in along if part)
+        friction = sum(f for _, f, part in along if part)
+        front_normal = sum(n for n, _, part in along if not part)
+        front_friction = sum(f for _, f, part in along if not part)
+        # each place counts only when it pulls (a finger pressing the panel closed is no pull)
+        pulls = [max(normal + friction, 0.0), max(front_normal + front_friction, 0.0)]
+        pull = sum(pulls)
         if pull < p.min_pull:
             return
         magnitudes = [float(np.linalg.norm(n)) for n, _, _, _ in contacts]
         log.samples += 1
         log.normal += normal
         log.friction += friction
-        log.front_normal += sum(n for n, _, part in along if not part)
-        log.front_friction += sum(f for _, f, part in along if not part)
+        log.front_normal += front_normal
+        log.front_friction += front_friction
         log.grip += 0.5 * sum(magnitudes)
         for (n_along, _, _), m in zip(along, magnitudes, strict=True):
             if m > 0:
@@ -172,5 +181,6 @@ class ContactMonitor:
                 log.weight += m
         if pull > log.peak_pull:
             capacity = sum(mu * m for (_, _, mu, _), m in zip(contacts, magnitudes, strict=True))
+            by_friction = (friction if pulls[0] else 0.0) + (front_friction if pulls[1] else 0.0)
             log.peak_pull = pull
-            log.peak_slip_ratio = max(friction, 0.0) / capacity if capacity > 0 else 0.0
+            log.peak_slip_ratio = max(by_friction, 0.0) / capacity if capacity > 0 else 0.0
