@@ -9,8 +9,8 @@ seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity
 success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` runs
 `realikea eval ... video=true episodes=N` once per run (under its training resistance, N =
 --video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames) of each
-strategy label into RUN/videos/; the report links
-every RUN/videos/*.mp4 it finds and shows its strip.
+strategy label into RUN/videos/; the report shows every
+RUN/videos/*.png strip it finds and names the MP4 beside it.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ STRATEGY_COLOURS = {
 
 
 def find_runs(roots: list[Path]) -> list[dict]:
-    """One dict per finished run: its cell, eval.json, metrics and videos."""
+    """One dict per finished run: its cell, eval.json, metrics and frame strips."""
     runs = []
     for root in roots:
         for eval_file in sorted(Path(root).rglob("eval.json")):
@@ -72,7 +72,7 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "num_envs": int(cfg.env.num_envs),
                     "eval": json.loads(eval_file.read_text()),
                     "metrics": read_metrics(run_dir) if metrics.is_file() else {},
-                    "videos": sorted((run_dir / "videos").glob("*.mp4")),
+                    "strips": sorted((run_dir / "videos").glob("*.png")),
                 }
             )
     return runs
@@ -378,7 +378,7 @@ def record_videos(runs: list[dict], episodes: int) -> None:
             old.unlink()
         args = [*overrides, f"episodes={episodes}", "video=true", f"video_path={stem}"]
         cli(["eval", *args, "env.num_workers=0"])
-        run["videos"] = sorted(stem.parent.glob("*.mp4"))
+        run["strips"] = sorted(stem.parent.glob("*.png"))
 
 
 def report(roots: list[Path], out: Path) -> Path:
@@ -422,19 +422,25 @@ def report(roots: list[Path], out: Path) -> Path:
         "",
         *compute_lines(runs, roots[0] if len(roots) == 1 else Path.cwd()),
     ]
-    videos = [(run, v) for run in runs for v in run["videos"]]
-    lines += ["", "## Videos", ""]
-    if videos:
-        for run, video in videos:
-            cell = f"{run['variant']} / {run['resistance']} / {run['category']} / s{run['seed']}"
-            lines.append(f"- {cell}: [{video.name}]({_rel(video, out)})")
-            strip = video.with_suffix(".png")  # four frames of the episode (realikea/eval/video)
-            if strip.is_file():
-                lines.append(f"\n  ![{video.stem}]({_rel(strip, out)})")
-    else:
+    strips = [(run, strip) for run in runs for strip in run["strips"]]
+    lines += [
+        "",
+        "## Frames of each run's strategies",
+        "",
+        "Four frames of the first evaluation episode with each strategy label (under the run's "
+        "training resistance); the MP4 beside each strip is not committed (git-ignored) and is "
+        "written again by `--record-videos`.",
+        "",
+    ]
+    for run, strip in strips:
+        cell = f"{run['variant']} / {run['resistance']} / {run['category']} / s{run['seed']}"
+        label = strip.stem.removeprefix("eval_")
+        lines += [f"- {cell}: `{label}` ({_rel(strip.with_suffix('.mp4'), out)})", ""]
+        lines += [f"  ![{cell} {label}]({_rel(strip, out)})", ""]
+    if not strips:
         lines.append(
             "None recorded: `python experiments/fidelity_ablation/report.py --record-videos` "
-            "writes one MP4 per strategy label into each RUN/videos/."
+            "writes one MP4 and strip per strategy label into each RUN/videos/."
         )
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
