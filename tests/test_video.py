@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import imageio.v2 as imageio
+import mujoco
+import numpy as np
 
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
+from realikea.eval import video as video_module
 from realikea.eval.video import record_strategies
 from realikea.policies.heuristic_pull import HeuristicPull
 from realikea.tasks.open_task import OpenTask
@@ -20,11 +25,37 @@ def test_one_video_and_strip_per_strategy(tmp_path):
     (video,) = tmp_path.glob("*.mp4")
     assert video.name == "demo_pinch_success.mp4" and written["pinch"] == video
     frames = imageio.mimread(video)
-    assert len(frames) == 80 and frames[0].shape == (
-        384,
-        512,
-        3,
-    )  # multiples of 16: no encoder padding
+    # the overview above the close-up; multiples of 16: no encoder padding
+    assert len(frames) == 80 and frames[0].shape == (2 * 384, 512, 3)
     strip = imageio.imread(video.with_suffix(".png"))
-    assert strip.shape == (384, 4 * 512, 3)
+    assert strip.shape == (2 * 384, 4 * 512, 3)
     assert not list(tmp_path.glob(".*"))  # no temporary files left behind
+
+
+def test_a_later_success_replaces_the_first_failure_of_a_label(tmp_path, monkeypatch):
+    """Per label the first success is kept (else the first episode): the strip shows the
+    strategy working, not its first attempt."""
+    infos = iter(
+        [
+            {"strategy": "hook", "outcome": "fail"},
+            {"strategy": "pinch", "outcome": "partial"},
+            {"strategy": "hook", "outcome": "success"},
+            {"strategy": "hook", "outcome": "success"},
+            {"strategy": "pinch", "outcome": "fail"},
+        ]
+    )
+    frames = [np.full((32, 48, 3), k * 40, np.uint8) for k in range(5)]
+    monkeypatch.setattr(video_module, "episode_frames", lambda *_: (frames, next(infos)))
+    task = SimpleNamespace(model=mujoco.MjModel.from_xml_string("<mujoco/>"))
+    written = record_strategies([task], None, 5, tmp_path / "ep.mp4", size=(32, 48))
+    assert {k: p.name for k, p in written.items()} == {
+        "hook": "ep_hook_success.mp4",
+        "pinch": "ep_pinch_partial.mp4",
+    }
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == [
+        "ep_hook_success.mp4",
+        "ep_hook_success.png",
+        "ep_pinch_partial.mp4",
+        "ep_pinch_partial.png",
+    ]

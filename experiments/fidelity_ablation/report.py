@@ -381,6 +381,49 @@ def record_videos(runs: list[dict], episodes: int) -> None:
         run["strips"] = sorted(stem.parent.glob("*.png"))
 
 
+def typical_strategy(run: dict) -> str | None:
+    """The most frequent strategy label of the run's evaluation under its training resistance."""
+    entry = run["eval"]["modes"].get(run["resistance"]) or {}
+    strategies = entry.get("strategies") or {}
+    return max(strategies, key=strategies.get) if strategies else None
+
+
+def frame_lines(runs: list[dict], out: Path) -> list[str]:
+    """Per run, the four-frame strip of its typical strategy inline and its other strips named."""
+    lines = [
+        "## Frames of the typical strategy per run",
+        "",
+        "Four frames of the first recorded evaluation episode (under the run's training "
+        "resistance) with the run's most frequent strategy label; strips of the other labels "
+        "seen in the recorded episodes are linked. The MP4 beside each strip is git-ignored "
+        "and written again by `--record-videos`.",
+        "",
+    ]
+    recorded = [run for run in runs if run["strips"]]
+    for run in recorded:
+        cell = f"{run['variant']} / {run['category']} / trained on {run['resistance']}"
+        cell += f" / s{run['seed']}"
+        typical = typical_strategy(run)
+        by_label = {s.stem.removeprefix("eval_").rsplit("_", 1)[0]: s for s in run["strips"]}
+        shown = by_label.get(typical)
+        others = [f"[{label}]({_rel(s, out)})" for label, s in by_label.items() if s != shown]
+        lines.append(f"### {cell}")
+        lines.append("")
+        if shown is not None:
+            lines += [f"Typical: `{typical}` ({shown.stem.removeprefix('eval_')}).", ""]
+            lines += [f"![{cell} {typical}]({_rel(shown, out)})", ""]
+        else:
+            lines += [f"Typical: `{typical}`, not among the recorded episodes.", ""]
+        if others:
+            lines += ["Other labels: " + ", ".join(others) + ".", ""]
+    if not recorded:
+        lines.append(
+            "None recorded: `python experiments/fidelity_ablation/report.py --record-videos` "
+            "writes one MP4 and strip per strategy label into each RUN/videos/."
+        )
+    return lines
+
+
 def report(roots: list[Path], out: Path) -> Path:
     runs = find_runs(roots)
     if not runs:
@@ -422,26 +465,7 @@ def report(roots: list[Path], out: Path) -> Path:
         "",
         *compute_lines(runs, roots[0] if len(roots) == 1 else Path.cwd()),
     ]
-    strips = [(run, strip) for run in runs for strip in run["strips"]]
-    lines += [
-        "",
-        "## Frames of each run's strategies",
-        "",
-        "Four frames of the first evaluation episode with each strategy label (under the run's "
-        "training resistance); the MP4 beside each strip is not committed (git-ignored) and is "
-        "written again by `--record-videos`.",
-        "",
-    ]
-    for run, strip in strips:
-        cell = f"{run['variant']} / {run['resistance']} / {run['category']} / s{run['seed']}"
-        label = strip.stem.removeprefix("eval_")
-        lines += [f"- {cell}: `{label}` ({_rel(strip.with_suffix('.mp4'), out)})", ""]
-        lines += [f"  ![{cell} {label}]({_rel(strip, out)})", ""]
-    if not strips:
-        lines.append(
-            "None recorded: `python experiments/fidelity_ablation/report.py --record-videos` "
-            "writes one MP4 and strip per strategy label into each RUN/videos/."
-        )
+    lines += ["", *frame_lines(runs, out)]
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path

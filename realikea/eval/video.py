@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import imageio.v2 as imageio
@@ -12,16 +13,37 @@ from realikea.assets.cache import atomic_path
 from realikea.tasks.open_task import OpenTask
 
 FPS = 10  # one frame per control step (the policy runs at 10 Hz)
+CLOSE_UP_DISTANCE = 0.45  # m from the handle
+CLOSE_UP_ELEVATION_DEG = -35.0  # looking down on the handle
+CLOSE_UP_AZIMUTH_DEG = -60.0  # turned from straight-on, away from the robot's side
+
+
+def close_up(task: OpenTask) -> mujoco.MjvCamera:
+    """A free camera 0.45 m from the handle, outside the front, beside and above it, looking at
+    where the gripper meets the part (placed at the episode's start, it stays put)."""
+    facts, u = task.facts(), task.pull_direction()
+    camera = mujoco.MjvCamera()
+    camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+    camera.lookat[:] = facts.handle_pos
+    camera.distance = CLOSE_UP_DISTANCE
+    camera.elevation = CLOSE_UP_ELEVATION_DEG
+    camera.azimuth = math.degrees(math.atan2(-u[1], -u[0])) + CLOSE_UP_AZIMUTH_DEG
+    return camera
 
 
 def episode_frames(task: OpenTask, policy, renderer: mujoco.Renderer) -> tuple[list, dict]:
-    """Run one episode; its frames and its final info (outcome, strategy, ...)."""
-    camera = task.model.camera("overview").id if task.model.ncam else -1
+    """Run one episode; its frames (the overview above a close-up of the handle) and its final
+    info (outcome, strategy, ...)."""
+    overview = task.model.camera("overview").id if task.model.ncam else -1
     obs, frames = task.reset(), []
     policy.reset(np.array([0]), [task.facts()])
+    handle = close_up(task)
     while True:
-        renderer.update_scene(task.data, camera)
-        frames.append(renderer.render())
+        views = []
+        for camera in (overview, handle):
+            renderer.update_scene(task.data, camera)
+            views.append(renderer.render())
+        frames.append(np.concatenate(views, axis=0))
         result = task.step(policy.act(obs[None])[0])
         obs = result.obs
         if result.terminated or result.truncated:
@@ -52,18 +74,24 @@ def write_strip(frames: list, path: Path, count: int = 4) -> Path:
 def record_strategies(
     tasks: list[OpenTask], policy, episodes: int, stem: Path, size=(384, 512)
 ) -> dict[str, Path]:
-    """Run up to `episodes` episodes (cycling over `tasks`) and write the first episode of each
-    strategy label to `<stem>_<strategy>_<outcome>.mp4`, with a PNG strip of four of its frames
-    next to it; returns label -> MP4 path."""
+    """Run up to `episodes` episodes (cycling over `tasks`) and write one episode of each
+    strategy label, its first success if there is one, else its first episode, to
+    `<stem>_<strategy>_<outcome>.mp4` with a PNG strip of four of its frames next to it;
+    returns label -> MP4 path. Each frame is `size` (height, width) per view, two views."""
     written: dict[str, Path] = {}
     stem = Path(stem)
     for k in range(episodes):
         task = tasks[k % len(tasks)]
         with mujoco.Renderer(task.model, *size) as renderer:
             frames, info = episode_frames(task, policy, renderer)
-        label = info.get("strategy", "episode")
-        if label not in written:
-            name = f"{stem.stem}_{label}_{info.get('outcome', 'fail')}.mp4"
-            written[label] = write_mp4(frames, stem.with_name(name))
-            write_strip(frames, written[label].with_suffix(".png"))
+        label, outcome = info.get("strategy", "episode"), info.get("outcome", "fail")
+        kept = written.get(label)
+        if kept is not None and (kept.stem.endswith("_success") or outcome != "success"):
+            continue
+        path = write_mp4(frames, stem.with_name(f"{stem.stem}_{label}_{outcome}.mp4"))
+        write_strip(frames, path.with_suffix(".png"))
+        if kept is not None:  # a failure of this label, now replaced by a success
+            kept.unlink()
+            kept.with_suffix(".png").unlink()
+        written[label] = path
     return written
