@@ -164,16 +164,22 @@ def fake_coacd_run(run, target):
     (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
-def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
-    root = tmp_path / "runs"
-    shutil.copytree(sweep, root)
-    run = root / "hull_smooth_two_point_franka_hand_s0"
-    fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
+def report_module():
+    """experiments/fidelity_ablation/report.py, a script, loaded as a module."""
     spec = importlib.util.spec_from_file_location(
         "fidelity_report", REPO_ROOT / "experiments" / "fidelity_ablation" / "report.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
+    return module
+
+
+def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
+    root = tmp_path / "runs"
+    shutil.copytree(sweep, root)
+    run = root / "hull_smooth_two_point_franka_hand_s0"
+    fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
+    module = report_module()
     out = tmp_path / "report"
     assert module.main([str(root), "--out", str(out)]) == 0
     text = (out / "report.md").read_text()
@@ -181,9 +187,23 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
-    assert "eval_hook_success.mp4" in text and "eval_hook_success.png)" in text
+    assert "Typical: `hook`, an episode ending in success ([MP4](" in text
+    assert "eval_hook_success.mp4)" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):
         assert (out / f"{name}.png").stat().st_size > 5_000
+
+
+def test_iterations_to_success_is_the_first_window_reaching_the_level():
+    module = report_module()
+    its = list(range(100))
+    values = [0.0] * 40 + [1.0] * 60
+    run = {"metrics": {"/episode/success": (its, values)}}
+    # the 20 iterations from 35 hold 15 successes (0.75), those from 34 only 14
+    assert module.iterations_to_success(run, level=0.75, window=20) == 35
+    assert module.iterations_to_success(run, level=1.0, window=20) == 40
+    never = {"metrics": {"/episode/success": (its, [0.4] * 100)}}
+    assert module.iterations_to_success(never) is None
+    assert module.iterations_to_success({"metrics": {}}) is None
 
 
 @pytest.mark.slow

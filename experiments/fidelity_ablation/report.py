@@ -87,6 +87,17 @@ def train_seconds(run: dict) -> float | None:
     return float(sum(map(sum, parts))) if any(parts) else None
 
 
+def iterations_to_success(run: dict, level: float = 0.5, window: int = 20) -> int | None:
+    """The first iteration from which the training success, averaged over the next `window`
+    iterations, reaches `level` (None if it never does)."""
+    its, values = (np.asarray(x) for x in run["metrics"].get("/episode/success", ([], [])))
+    for start in np.unique(its):
+        chosen = (its >= start) & (its < start + window)
+        if values[chosen].mean() >= level:
+            return int(start)
+    return None
+
+
 def variant(run: dict, presets: int) -> str:
     """The collision source, with the gripper/contact preset when several are present."""
     if presets == 1:
@@ -236,8 +247,11 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
     lines = [
         "## Compute",
         "",
-        "| run | iterations | envs | train (min) | s / iteration | eval (min) |",
-        "|---|---:|---:|---:|---:|---:|",
+        "First iteration reaching 50 % training success (mean over the next 20 iterations): "
+        "how soon the run found a way to open.",
+        "",
+        "| run | iterations | envs | train (min) | s / iteration | eval (min) | to 50 % |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     total = 0.0
     for run in runs:
@@ -245,9 +259,11 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
         total += (seconds or 0.0) + run["eval"].get("eval_seconds", 0.0)
         per_it = seconds / run["iterations"] if seconds else None
         eval_min = run["eval"].get("eval_seconds", 0.0) / 60
+        reached = iterations_to_success(run)
         lines.append(
             f"| {_rel(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
-            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} |"
+            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} | "
+            f"{'–' if reached is None else reached} |"
         )
     lines += ["", f"Total compute (sum over runs): {total / 3600:.2f} h."]
     return lines
@@ -410,7 +426,9 @@ def frame_lines(runs: list[dict], out: Path) -> list[str]:
         lines.append(f"### {cell}")
         lines.append("")
         if shown is not None:
-            lines += [f"Typical: `{typical}` ({shown.stem.removeprefix('eval_')}).", ""]
+            video = _rel(shown.with_suffix(".mp4"), out)
+            outcome = shown.stem.rsplit("_", 1)[-1]
+            lines += [f"Typical: `{typical}`, an episode ending in {outcome} ([MP4]({video})).", ""]
             lines += [f"![{cell} {typical}]({_rel(shown, out)})", ""]
         else:
             lines += [f"Typical: `{typical}`, not among the recorded episodes.", ""]
