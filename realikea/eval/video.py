@@ -20,8 +20,10 @@ CLOSE_UP_AZIMUTH_DEG = -60.0  # turned from straight-on, away from the robot's s
 
 def close_up(task: OpenTask) -> mujoco.MjvCamera:
     """A free camera 0.45 m from the handle, outside the front, beside and above it, looking at
-    where the gripper meets the part (placed at the episode's start, it stays put)."""
-    facts, u = task.facts(), task.pull_direction()
+    where the gripper meets the part (its direction set at the episode's start; it follows
+    the handle as the front opens)."""
+    facts = task.facts()
+    u = facts.pull_dir
     camera = mujoco.MjvCamera()
     camera.type = mujoco.mjtCamera.mjCAMERA_FREE
     camera.lookat[:] = facts.handle_pos
@@ -40,6 +42,7 @@ def episode_frames(task: OpenTask, policy, renderer: mujoco.Renderer) -> tuple[l
     handle = close_up(task)
     while True:
         views = []
+        handle.lookat[:] = task.facts().handle_pos
         for camera in (overview, handle):
             renderer.update_scene(task.data, camera)
             views.append(renderer.render())
