@@ -187,6 +187,9 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
+    # per run: success under the three modes, strategies under smooth, never 50 % in training
+    per_run = "| coacd_smooth_two_point_franka_hand_s0 | 0.50 | 0.50 | 0.50 | 0.25 | 0.50 |"
+    assert per_run + " 0.00 | – | – | 0.25 | – |" in text  # no front labels in the fake
     assert "Typical: `hook`, an episode ending in success ([MP4](" in text
     assert "eval_hook_success.mp4)" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):

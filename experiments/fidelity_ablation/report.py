@@ -243,15 +243,43 @@ def strategy_lines(cells, totals, variants, categories) -> list[str]:
     return lines
 
 
+def per_run_lines(runs: list[dict], root: Path) -> list[str]:
+    """One row per run: success under each evaluation mode, strategy fractions under its
+    training resistance, and how soon training found a way to open."""
+    lines = [
+        "## Per run",
+        "",
+        "Success under each evaluation mode; strategy fractions under the run's training "
+        "resistance; `to 50 %`: the first iteration from which training success, averaged over "
+        "the next 20 iterations, reaches 50 % (how soon the run found a way to open).",
+        "",
+        "| run | "
+        + " | ".join(f"{m} S" for m in MODES)
+        + " | "
+        + " | ".join(STRATEGY_COLOURS)
+        + " | to 50 % |",
+        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 1),
+    ]
+    for run in runs:
+        modes = run["eval"]["modes"]
+        success = [_fmt(modes[m]["success"]) if m in modes else "" for m in MODES]
+        trained = (modes.get(run["resistance"]) or {}).get("strategies") or {}
+        fractions = [_fmt(trained.get(s)) for s in STRATEGY_COLOURS]
+        reached = iterations_to_success(run)
+        lines.append(
+            f"| {_rel(run['dir'], root)} | "
+            + " | ".join([*success, *fractions, "–" if reached is None else str(reached)])
+            + " |"
+        )
+    return lines
+
+
 def compute_lines(runs: list[dict], root: Path) -> list[str]:
     lines = [
         "## Compute",
         "",
-        "First iteration reaching 50 % training success (mean over the next 20 iterations): "
-        "how soon the run found a way to open.",
-        "",
-        "| run | iterations | envs | train (min) | s / iteration | eval (min) | to 50 % |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        "| run | iterations | envs | train (min) | s / iteration | eval (min) |",
+        "|---|---:|---:|---:|---:|---:|",
     ]
     total = 0.0
     for run in runs:
@@ -259,11 +287,9 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
         total += (seconds or 0.0) + run["eval"].get("eval_seconds", 0.0)
         per_it = seconds / run["iterations"] if seconds else None
         eval_min = run["eval"].get("eval_seconds", 0.0) / 60
-        reached = iterations_to_success(run)
         lines.append(
             f"| {_rel(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
-            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} | "
-            f"{'–' if reached is None else reached} |"
+            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} |"
         )
     lines += ["", f"Total compute (sum over runs): {total / 3600:.2f} h."]
     return lines
@@ -459,6 +485,7 @@ def report(roots: list[Path], out: Path) -> Path:
     plot_learning_curves(by_cell, variants, resistances, categories, out / "learning_curves.png")
     presets = sorted({(r["gripper"], r["contact"]) for r in runs})
     episodes = sorted({r["eval"]["episodes"] for r in runs})
+    root = roots[0] if len(roots) == 1 else Path.cwd()
     lines = [
         "# Fidelity ablation",
         "",
@@ -481,7 +508,9 @@ def report(roots: list[Path], out: Path) -> Path:
         "",
         "![learning curves](learning_curves.png)",
         "",
-        *compute_lines(runs, roots[0] if len(roots) == 1 else Path.cwd()),
+        *per_run_lines(runs, root),
+        "",
+        *compute_lines(runs, root),
     ]
     lines += ["", *frame_lines(runs, out)]
     path = out / "report.md"
