@@ -11,6 +11,7 @@ import pytest
 
 from realikea.assets.catalog import REPO_ROOT
 from realikea.cli import main
+from realikea.eval.protocol import EvalResult
 from realikea.tasks.contacts import STRATEGIES
 
 SMALL = [
@@ -54,12 +55,27 @@ def test_eval_prints_fractions_and_a_json_line(run, capsys):
     assert main(["eval", f"policy.path={run_dir / 'model_1.pt'}", *args]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
     summary = json.loads(lines[-1])
-    assert set(summary) == {"episodes", "fail", "partial", "success", "strategies"}
+    keys = {"episodes", "fail", "partial", "success", "strategies", "success_strategies"}
+    assert set(summary) == keys
     assert tuple(summary["strategies"]) == STRATEGIES
     assert sum(summary["strategies"].values()) == pytest.approx(1.0)
     assert summary["episodes"] == 3
     assert summary["fail"] + summary["partial"] + summary["success"] == pytest.approx(1.0)
     assert "| episodes | fail | partial | success |" in lines
+
+
+def test_success_strategies_count_only_successful_episodes():
+    outcomes = ["success", "success", "success", "fail", "partial"]
+    labels = ["hook", "hook", "pinch", "pinch", "none"]
+    episodes = [{"outcome": o, "strategy": s} for o, s in zip(outcomes, labels, strict=True)]
+    summary = EvalResult(episodes).summary()
+    assert summary["strategies"]["pinch"] == pytest.approx(0.4)
+    assert summary["success_strategies"]["hook"] == pytest.approx(2 / 3)
+    assert summary["success_strategies"]["pinch"] == pytest.approx(1 / 3)
+    assert summary["success_strategies"]["none"] == 0.0
+    failed = EvalResult([{"outcome": "fail", "strategy": "none"}]).summary()
+    assert set(failed["success_strategies"].values()) == {0.0}
+    assert "success_strategies" not in EvalResult([{"outcome": "fail"}]).summary()
 
 
 def test_missing_checkpoint(capsys):

@@ -23,15 +23,20 @@ class EvalResult:
         return [e.get("outcome", "fail") for e in self.episodes]
 
     def summary(self) -> dict:
-        """`{"episodes", "fail", "partial", "success", "strategies"}`: the JSON line of an eval.
+        """`{"episodes", "fail", "partial", "success", "strategies", "success_strategies"}`:
+        the JSON line of an eval.
 
-        `strategies` holds the fraction of episodes per classifier label (when contacts were
-        logged).
+        `strategies` holds the fraction of episodes per classifier label and
+        `success_strategies` the fraction of the successful episodes per label (all zero without
+        a success); both only when contacts were logged.
         """
         out = {"episodes": len(self.episodes), **fractions(self.outcomes)}
-        labels = [e["strategy"] for e in self.episodes if "strategy" in e]
-        if labels:
+        labelled = [e for e in self.episodes if "strategy" in e]
+        if labelled:
+            labels = [e["strategy"] for e in labelled]
             out["strategies"] = {s: labels.count(s) / len(labels) for s in STRATEGIES}
+            won = [e["strategy"] for e in labelled if e.get("outcome") == "success"]
+            out["success_strategies"] = {s: won.count(s) / max(len(won), 1) for s in STRATEGIES}
         return out
 
 
