@@ -157,6 +157,7 @@ def fake_coacd_run(run, target):
     for entry in report["modes"].values():
         entry.update(fail=0.25, partial=0.25, success=0.5)
         entry["strategies"] = {"hook": 0.5, "lever": 0.0, "pinch": 0.25, "none": 0.25}
+        entry["success_strategies"] = {"hook": 0.8, "lever": 0.0, "pinch": 0.2, "none": 0.0}
         entry["contacts"]["friction_share"] = 0.3
     (target / "eval.json").write_text(json.dumps(report))
     (target / "videos").mkdir()
@@ -189,7 +190,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
     # per run: success under the three modes, strategies under smooth, never 50 % in training
     per_run = "| coacd_smooth_two_point_franka_hand_s0 | 0.50 | 0.50 | 0.50 | 0.25 | 0.50 |"
-    assert per_run + " 0.00 | – | – | 0.25 | – |" in text  # no front labels in the fake
+    assert per_run + " 0.00 | – | – | 0.25 | 0.80 | – |" in text  # no front labels in the fake
     assert "Typical: `hook`, an episode ending in success ([MP4](" in text
     assert "eval_hook_success.mp4)" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):

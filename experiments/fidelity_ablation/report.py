@@ -250,27 +250,28 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         "## Per run",
         "",
         "Success under each evaluation mode; strategy fractions under the run's training "
-        "resistance; `to 50 %`: the first iteration from which training success, averaged over "
-        "the next 20 iterations, reaches 50 % (how soon the run found a way to open).",
+        "resistance; `form closure of S`: the share of its successful episodes there labelled "
+        "`hook` or `lever`; `to 50 %`: the first iteration from which training success, "
+        "averaged over the next 20 iterations, reaches 50 % (how soon the run found a way to "
+        "open).",
         "",
         "| run | "
         + " | ".join(f"{m} S" for m in MODES)
         + " | "
         + " | ".join(STRATEGY_COLOURS)
-        + " | to 50 % |",
-        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 1),
+        + " | form closure of S | to 50 % |",
+        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 2),
     ]
     for run in runs:
         modes = run["eval"]["modes"]
         success = [_fmt(modes[m]["success"]) if m in modes else "" for m in MODES]
-        trained = (modes.get(run["resistance"]) or {}).get("strategies") or {}
-        fractions = [_fmt(trained.get(s)) for s in STRATEGY_COLOURS]
+        trained = modes.get(run["resistance"]) or {}
+        fractions = [_fmt((trained.get("strategies") or {}).get(s)) for s in STRATEGY_COLOURS]
+        won = trained.get("success_strategies")
+        closure = _fmt(won["hook"] + won["lever"]) if won and trained["success"] > 0 else "–"
         reached = iterations_to_success(run)
-        lines.append(
-            f"| {_rel(run['dir'], root)} | "
-            + " | ".join([*success, *fractions, "–" if reached is None else str(reached)])
-            + " |"
-        )
+        row = [*success, *fractions, closure, "–" if reached is None else str(reached)]
+        lines.append(f"| {_rel(run['dir'], root)} | " + " | ".join(row) + " |")
     return lines
 
 
