@@ -436,10 +436,11 @@ def frame_lines(runs: list[dict], out: Path) -> list[str]:
     lines = [
         "## Frames of the typical strategy per run",
         "",
-        "Four frames of the first recorded evaluation episode (under the run's training "
-        "resistance) with the run's most frequent strategy label; strips of the other labels "
-        "seen in the recorded episodes are linked. The MP4 beside each strip is git-ignored "
-        "and written again by `--record-videos`.",
+        "Four frames (the scene above a close-up of the handle) of one recorded evaluation "
+        "episode under the run's training resistance with the run's most frequent strategy "
+        "label: the first success with that label, else its first episode. Strips of the other "
+        "labels seen in the recorded episodes are linked. The MP4 beside each strip is "
+        "git-ignored and written again by `--record-videos`.",
         "",
     ]
     recorded = [run for run in runs if run["strips"]]
