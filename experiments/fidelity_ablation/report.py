@@ -384,7 +384,8 @@ def plot_learning_curves(by_cell, variants, resistances, categories, path: Path)
     """Training success fraction against iteration: a panel per (category, training
     resistance), a colour per collision source, one line per seed."""
     fig, axes = plt.subplots(
-        len(categories), len(resistances), figsize=(4 * len(resistances), 2.8 * len(categories)),
+        len(categories), len(resistances),
+        figsize=(max(6, 4 * len(resistances)), 2.8 * len(categories)),
         squeeze=False, sharey=True,
     )  # fmt: skip
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -395,14 +396,19 @@ def plot_learning_curves(by_cell, variants, resistances, categories, path: Path)
                 for k, run in enumerate(by_cell.get((v, res, category), [])):
                     its, values = run["metrics"].get("/episode/success", ([], []))
                     label = v if k == 0 else None
-                    ax.plot(its, values, color=colours[i % len(colours)], lw=1, label=label)
+                    colour = colours[i % len(colours)]
+                    ax.plot(its, values, color=colour, lw=0.8, alpha=0.8, label=label)
             ax.set(title=f"{category}, trained on {res}", ylim=(-0.02, 1.02))
             ax.grid(alpha=0.3)
             if row == len(categories) - 1:
                 ax.set_xlabel("iteration")
             if col == 0:
                 ax.set_ylabel("training success")
-    axes[0, 0].legend(fontsize=8)
+    legend = {}  # label -> line, over every panel: each source once
+    for ax in axes.flat:
+        handles, labels = ax.get_legend_handles_labels()
+        legend.update(zip(labels, handles, strict=True))
+    axes[0, 0].legend(legend.values(), legend.keys(), fontsize=8)
     _save(fig, path)
 
 
