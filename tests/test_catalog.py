@@ -97,3 +97,19 @@ def test_kind_filter(catalog):
     assert len(drawers) == len(catalog.parts_in("two_point")) * 8
     with pytest.raises(RealIkeaError, match="unknown base kind 'wardrobe'"):
         list(catalog.configurations(kind="wardrobe"))
+
+
+def test_unknown_ids_suggest_close_matches_and_list_the_valid_ones(catalog):
+    with pytest.raises(RealIkeaError) as err:
+        catalog.part("knob_rund_20")
+    message = " ".join(str(err.value).split())  # the list is wrapped over lines
+    assert "unknown part id 'knob_rund_20'; did you mean knob_round_20" in message
+    assert f"known part ids (83): {', '.join(sorted(catalog.parts))}" in message
+    with pytest.raises(RealIkeaError) as err:
+        catalog.base("drawer_w60_h2")
+    message = " ".join(str(err.value).split())
+    assert "did you mean drawer_w60_h20" in message
+    assert f"known base ids (13): {', '.join(sorted(catalog.bases))}" in message
+    with pytest.raises(RealIkeaError) as err:  # nothing close: the list alone
+        list(catalog.configurations(part="zzz"))
+    assert "did you mean" not in str(err.value) and "known part ids (83)" in str(err.value)

@@ -54,3 +54,11 @@ def test_full_library_builds_and_every_mjcf_compiles(tmp_path, capsys):
     assert main(["assets", "build", "--all", "--out", str(tmp_path)]) == 0
     assert "parts built 0" in (out := capsys.readouterr().out)
     assert "configurations built 0, up to date 1079" in out
+
+
+def test_split_prints_the_committed_split(capsys):
+    assert main(["assets", "split"]) == 0
+    out = capsys.readouterr().out
+    assert "67 train, 16 test" in out and "split.csv matches this split" in out
+    assert main(["assets", "list"]) == 0
+    assert "split (asset.split): 67 train, 16 test" in capsys.readouterr().out

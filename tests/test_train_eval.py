@@ -55,8 +55,10 @@ def test_eval_prints_fractions_and_a_json_line(run, capsys):
     assert main(["eval", f"policy.path={run_dir / 'model_1.pt'}", *args]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
     summary = json.loads(lines[-1])
-    keys = {"episodes", "fail", "partial", "success", "strategies", "success_strategies"}
+    keys = {"episodes", "fail", "partial", "success", "strategies", "success_strategies", "split"}
     assert set(summary) == keys
+    assert summary["split"] == "train"  # the pinned part's own split
+    assert any(" split=train resistance=" in line for line in lines)
     assert tuple(summary["strategies"]) == STRATEGIES
     assert sum(summary["strategies"].values()) == pytest.approx(1.0)
     assert summary["episodes"] == 3
@@ -162,6 +164,7 @@ def test_table_writes_the_table2_layout(tmp_path, run, capsys):
     markdown = (tmp_path / "table2.md").read_text()
     assert "## Two-point handles" in markdown
     assert "| Policy | smooth F | P | S | high F | P | S |" in markdown
+    assert "split" in csv_rows[0] and "split=train" in markdown.splitlines()[0]
     assert markdown.count("| heuristic_pull |") == 3  # the F/P/S row and two strategy rows
 
 

@@ -6,11 +6,13 @@ import csv
 import hashlib
 import json
 import os
+import textwrap
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from realikea.assets.split import SPLIT_FILE, check_split_value, read_split, suggest
 from realikea.errors import RealIkeaError
 
 CATEGORIES = ("knob", "two_point", "finger_pull")
@@ -96,7 +98,7 @@ class Configuration:
 class Catalog:
     """All parts (catalog rows plus imported twins) and bases, with lookups that name bad ids."""
 
-    def __init__(self, parts: list[Part], bases: list[Base]):
+    def __init__(self, parts: list[Part], bases: list[Base], split: dict[str, str] | None = None):
         self.parts = {p.id: p for p in parts}
         self.bases = {b.id: b for b in bases}
         for kind, items, rows in (("part", self.parts, parts), ("base", self.bases, bases)):
@@ -104,6 +106,8 @@ class Catalog:
                 seen: set[str] = set()
                 dup = next(r.id for r in rows if r.id in seen or seen.add(r.id))
                 raise RealIkeaError(f"duplicate {kind} id {dup!r} in the catalog")
+        # {part id: train|test} from split.csv (realikea/assets/split.py); None without the file
+        self.split = split
 
     @classmethod
     def load(cls, root: Path | None = None) -> Catalog:
@@ -112,18 +116,36 @@ class Catalog:
         parts = [_part_from_row(row, root / "parts.csv") for row in _rows(root / "parts.csv")]
         parts += [_imported_part(path) for path in sorted(root.glob("imported/*/part.json"))]
         bases = [_base_from_row(row, root / "bases.csv") for row in _rows(root / "bases.csv")]
-        return cls(parts, bases)
+        split_file = root / SPLIT_FILE
+        split = read_split(split_file, parts) if split_file.is_file() else None
+        return cls(parts, bases, split)
 
     def part(self, part_id: str) -> Part:
         if part_id not in self.parts:
-            raise RealIkeaError(f"unknown part id {part_id!r}; `realikea assets list` shows them")
+            raise RealIkeaError(_unknown("part", part_id, self.parts))
         return self.parts[part_id]
 
     def base(self, base_id: str) -> Base:
         if base_id not in self.bases:
-            known = ", ".join(self.bases)
-            raise RealIkeaError(f"unknown base id {base_id!r}; known bases: {known}")
+            raise RealIkeaError(_unknown("base", base_id, self.bases))
         return self.bases[base_id]
+
+    def split_of(self, part_id: str) -> str:
+        """train or test (split.csv; imported parts are test), or all without a split.csv."""
+        self.part(part_id)
+        return "all" if self.split is None else self.split[part_id]
+
+    def parts_of_split(self, parts: list[Part], split: str) -> list[Part]:
+        """The `parts` in `split` (train, test, or all)."""
+        check_split_value(split)
+        if split == "all":
+            return parts
+        if self.split is None:
+            raise RealIkeaError(
+                f"asset.split={split} needs a {SPLIT_FILE} beside the catalog's parts.csv; "
+                "`realikea assets split --write` makes one (or use asset.split=all)"
+            )
+        return [p for p in parts if self.split[p.id] == split]
 
     def parts_in(self, category: str) -> list[Part]:
         """Parts of one category, or all of them for `all`."""
@@ -139,14 +161,17 @@ class Catalog:
         part: str | None = None,
         base: str | None = None,
         kind: str | None = None,
+        split: str = "all",
     ) -> Iterator[Configuration]:
         """Every part × base pair of a category, optionally pinned to one part and/or one base,
-        or restricted to one kind of base (drawer, door, flap)."""
+        or restricted to one kind of base (drawer, door, flap) and to the parts of one split
+        (train, test or all; a pinned part is used whatever its split)."""
         if kind is not None and kind not in BASE_KINDS:
             raise RealIkeaError(
                 f"unknown base kind {kind!r}; choose one of {', '.join(BASE_KINDS)}"
             )
-        parts = [self.part(part)] if part else self.parts_in(category)
+        check_split_value(split)
+        parts = [self.part(part)] if part else self.parts_of_split(self.parts_in(category), split)
         bases = [self.base(base)] if base else list(self.bases.values())
         bases = [b for b in bases if kind is None or b.kind == kind]
         for p in parts:
@@ -156,6 +181,13 @@ class Catalog:
     @cached_property
     def n_configurations(self) -> int:
         return len(self.parts) * len(self.bases)
+
+
+def _unknown(kind: str, name: str, known) -> str:
+    """'unknown part id 'x'; did you mean ...? known part ids (n): a, b, ...'"""
+    listing = f"known {kind} ids ({len(known)}): {', '.join(sorted(known))}"
+    wrapped = textwrap.fill(listing, width=100, subsequent_indent="  ", break_on_hyphens=False)
+    return f"unknown {kind} id {name!r}{suggest(str(name), known)}\n{wrapped}"
 
 
 def _rows(path: Path) -> list[dict[str, str]]:

@@ -1,4 +1,4 @@
-"""`realikea assets ...`: build, list, gallery and import."""
+"""`realikea assets ...`: build, list, gallery, import and split."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ import time
 from pathlib import Path
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
-from realikea.assets.catalog import Catalog
+from realikea.assets.catalog import Catalog, catalog_dir
+from realikea.assets.split import override_key
 from realikea.config import load_config, repo_path
 from realikea.errors import RealIkeaError
 
@@ -47,6 +48,15 @@ def register(parser: argparse.ArgumentParser) -> None:
     imp.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
     imp.set_defaults(run=run_import)
 
+    split = commands.add_parser(
+        "split",
+        help="show the train/test split of the catalog parts (assets/split.csv); "
+        "--write regenerates it",
+    )
+    split.add_argument("--write", action="store_true", help="write assets/split.csv")
+    split.add_argument("--seed", type=int, help="generator seed (default: the committed one)")
+    split.set_defaults(run=run_split)
+
 
 def run_build(args: argparse.Namespace) -> int:
     cfg = load_config(args.overrides)
@@ -57,8 +67,13 @@ def run_build(args: argparse.Namespace) -> int:
         configs = list(catalog.configurations(cfg.asset.category, args.part, args.base))
     else:
         asset = cfg.asset
+        # every part of the category unless the command line names a split
+        named = any(override_key(o) == "asset.split" for o in args.overrides)
+        split = asset.split if named else "all"
         configs = list(
-            catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind"))
+            catalog.configurations(
+                asset.category, asset.part, asset.base, asset.get("kind"), split=split
+            )
         )
     sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
     out = args.out or repo_path(cfg.paths.library)
@@ -84,10 +99,14 @@ def run_build(args: argparse.Namespace) -> int:
 
 def run_list(args: argparse.Namespace) -> int:
     catalog = Catalog.load()
-    print(f"{'part':<28} {'category':<12} {'family':<12} {'friction':<15} dimensions (mm)")
+    print(
+        f"{'part':<28} {'category':<12} {'family':<12} {'split':<6} {'friction':<15}"
+        " dimensions (mm)"
+    )
     for p in catalog.parts.values():
         dims = " ".join(f"{k}={v * 1000:g}" for k, v in p.dims.items()) or f"mesh {p.mesh_file}"
-        print(f"{p.id:<28} {p.category:<12} {p.family:<12} {p.friction:<15} {dims}")
+        split = catalog.split_of(p.id)
+        print(f"{p.id:<28} {p.category:<12} {p.family:<12} {split:<6} {p.friction:<15} {dims}")
     print(f"\n{'base':<22} {'kind':<7} {'joint':<6} {'W x H x D (cm)':<16} {'range':<8} mount")
     for b in catalog.bases.values():
         size = f"{b.width * 100:g}x{b.height * 100:g}x{b.depth * 100:g}"
@@ -99,6 +118,9 @@ def run_list(args: argparse.Namespace) -> int:
         f"\n{len(catalog.parts)} parts {by_category} x {len(catalog.bases)} bases"
         f" = {catalog.n_configurations} configurations"
     )
+    if catalog.split is not None:
+        held = sum(v == "test" for v in catalog.split.values())
+        print(f"split (asset.split): {len(catalog.parts) - held} train, {held} test")
     return 0
 
 
@@ -120,4 +142,38 @@ def run_import(args: argparse.Namespace) -> int:
     part = import_part(args.path, args.category, args.part_id, args.scale, args.friction, cfg)
     print(f"imported {part.id} ({part.category}) -> {part.mesh_file.parent}")
     print(f"build it: realikea assets build --part {part.id}")
+    return 0
+
+
+def run_split(args: argparse.Namespace) -> int:
+    """Print the generated split per family; with --write, write it to assets/split.csv."""
+    from realikea.assets.split import SEED, SPLIT_FILE, main_dimension, make_split, write_split
+
+    catalog = Catalog.load()
+    split = make_split(catalog.parts.values(), SEED if args.seed is None else args.seed)
+    families: dict[str, list] = {}
+    for pid in split:
+        families.setdefault(catalog.parts[pid].family, []).append(catalog.parts[pid])
+    print(f"{'family':<12} {'train':>5} {'test':>4}  held out (of the family sorted by size)")
+    for family, members in families.items():
+        ranked = sorted(members, key=lambda p: (main_dimension(p), p.id))
+        held = [
+            f"{p.id} ({i + 1}/{len(ranked)})" for i, p in enumerate(ranked) if split[p.id] == "test"
+        ]
+        print(f"{family:<12} {len(members) - len(held):>5} {len(held):>4}  {', '.join(held)}")
+    n_test = sum(v == "test" for v in split.values())
+    print(f"{len(split) - n_test} train, {n_test} test ({n_test / len(split):.0%} held out)")
+    path = catalog_dir() / SPLIT_FILE
+    if args.write:
+        write_split(path, split)
+        print(f"wrote {path}")
+    elif catalog.split is None:
+        print(f"{path} does not exist: --write makes it")
+    else:
+        committed = {k: v for k, v in catalog.split.items() if k in split}
+        same = committed == split
+        print(f"{path} {'matches' if same else 'differs from'} this split")
+    imported = [p for p in catalog.parts.values() if p.id not in split]
+    if imported:
+        print(f"imported parts (test unless split.csv names them): {len(imported)}")
     return 0

@@ -44,12 +44,16 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     """MJCFs of `n` configurations drawn from the `asset` group (built if missing).
 
     Configurations are drawn without replacement (cycling when n exceeds the category) in a
-    seeded order, for the collision source of `cfg.collision`.
+    seeded order, for the collision source of `cfg.collision`, from the parts of `asset.split`
+    (train, test or all; all for a config written before the split existed). Every consumer
+    (training pool, evaluation, table, video) draws through here.
     """
     catalog = Catalog.load()
     asset = cfg.asset
     candidates = list(
-        catalog.configurations(asset.category, asset.part, asset.base, asset.get("kind"))
+        catalog.configurations(
+            asset.category, asset.part, asset.base, asset.get("kind"), asset.get("split", "all")
+        )
     )
     order = np.random.default_rng(seed).permutation(len(candidates))
     chosen = [candidates[order[i % len(candidates)]] for i in range(n)]

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
+from realikea.assets.split import effective_split, override_key, with_default_split
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 
@@ -57,13 +58,24 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     return OmegaConf.create(merged)
 
 
+def eval_overrides_with_split(overrides: list[str]) -> list[str]:
+    """The evaluation draws from the held-out parts: `asset.split=test` unless `overrides` set
+    asset.split (train, test or all)."""
+    return with_default_split(overrides, "test")
+
+
 def eval_setup(overrides: list[str]):
     """(cfg, policy) of `realikea eval OVERRIDES`: the composed config with a checkpoint's own
-    run groups (`effective_config`) or a policy's own configuration, contacts logged."""
+    run groups (`effective_config`) or a policy's own configuration, contacts logged; the test
+    split unless the overrides name one (`eval_overrides_with_split`)."""
     from realikea.policies.registry import make_policy
 
-    cfg = load_config(overrides)
+    cfg = load_config(eval_overrides_with_split(overrides))
     policy = make_policy(cfg)
+    if hasattr(policy, "run_interactive") and not any(
+        override_key(o) == "asset.split" for o in overrides
+    ):
+        cfg.asset.split = "train"  # teleop records demonstrations: training data, not a test
     if hasattr(policy, "run_cfg"):
         cfg = effective_config(cfg, policy.run_cfg, overrides)
     if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
@@ -92,9 +104,11 @@ def run_eval(args: argparse.Namespace) -> int:
     if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
         return int(policy.run_interactive(cfg, args.overrides))
     result = evaluate(cfg, policy)
+    split = effective_split(cfg.asset)
     print(
-        f"policy {cfg.policy.name} on asset={cfg.asset.category} resistance={cfg.resistance.name}"
-        f" collision={cfg.collision.source} gripper={cfg.gripper.name} contact={cfg.contact.name}"
+        f"policy {cfg.policy.name} on asset={cfg.asset.category} split={split}"
+        f" resistance={cfg.resistance.name} collision={cfg.collision.source}"
+        f" gripper={cfg.gripper.name} contact={cfg.contact.name}"
     )
     print(outcome_table(result))
     if cfg.video:
@@ -107,5 +121,5 @@ def run_eval(args: argparse.Namespace) -> int:
         stem = Path(cfg.video_path or "outputs/eval.mp4")
         for label, path in record_strategies(tasks, policy, int(cfg.video_episodes), stem).items():
             print(f"video ({label}): {path}")
-    print(json.dumps(result.summary()))
+    print(json.dumps({**result.summary(), "split": split}))
     return 0

@@ -1,6 +1,7 @@
 """`realikea eval table`: the paper's Table 2 grid, policy x category x resistance, to CSV/markdown.
 
-Every cell runs `episodes` episodes with the contact-force strategy classifier on. One env pool
+Every cell runs `episodes` episodes with the contact-force strategy classifier on, on the
+held-out parts (`asset.split=test`) unless the command line sets asset.split. One env pool
 per (category, resistance) serves all policies, so they meet the same configurations and the
 same randomized poses (env i, seed env.seed + i).
 """
@@ -15,6 +16,7 @@ import numpy as np
 from omegaconf import DictConfig
 
 from realikea.assets.cache import atomic_write_text
+from realikea.assets.split import effective_split, with_default_split
 from realikea.config import load_config, repo_path
 from realikea.errors import RealIkeaError
 from realikea.tasks.contacts import STRATEGIES
@@ -29,9 +31,13 @@ TITLES = {"knob": "Knobs", "finger_pull": "Finger-pull handles", "two_point": "T
 
 
 def cell_config(overrides: list[str], policy: str, category: str, resistance: str) -> DictConfig:
-    """The composed config of one cell: the command line, then the cell's groups."""
+    """The composed config of one cell: the command line, then the cell's groups; the test
+    split of the parts unless the command line sets asset.split."""
     cfg = load_config(
-        [*overrides, f"policy={policy}", f"asset={category}", f"resistance={resistance}"]
+        with_default_split(
+            [*overrides, f"policy={policy}", f"asset={category}", f"resistance={resistance}"],
+            "test",
+        )
     )
     cfg.asset.kind = cfg.table.kind
     cfg.task.contacts.log = True
@@ -43,7 +49,8 @@ def cell_row(cfg: DictConfig, policy: str, category: str, resistance: str, resul
     summary = result.summary()
     row = {
         "gripper": cfg.gripper.name, "contact": cfg.contact.name,
-        "collision": cfg.collision.source, "policy": policy, "category": category,
+        "collision": cfg.collision.source, "split": effective_split(cfg.asset),
+        "policy": policy, "category": category,
         "resistance": resistance, "episodes": summary["episodes"],
         **{o: summary[o] for o in OUTCOMES},
         **{f"strategy_{s}": summary.get("strategies", {}).get(s, 0.0) for s in STRATEGIES},
@@ -69,7 +76,7 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
     first = rows[0]
     lines = [
         f"# Table 2: gripper={first['gripper']}, contact={first['contact']}, "
-        f"collision={first['collision']}",
+        f"collision={first['collision']}, split={first.get('split', 'all')}",
         "",
     ]
     cells = {(r["policy"], r["category"], r["resistance"]): r for r in rows}
@@ -142,7 +149,7 @@ def run_table(overrides: list[str]) -> int:
             cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
             with EnvPool.from_config(cfg) as pool:
                 for policy in policies:
-                    where = f"{category} ({table.kind or 'every kind'})"
+                    where = f"{category} ({table.kind or 'every kind'}, {cfg.asset.split} split)"
                     print(f"{policy} on {where}, {resistance}", flush=True)
                     result = run_episodes(pool, made[policy], episodes)
                     rows.append(cell_row(cfg, policy, category, resistance, result))
@@ -150,7 +157,7 @@ def run_table(overrides: list[str]) -> int:
                         json.dumps(
                             {
                                 k: rows[-1][k]
-                                for k in ("policy", "category", "resistance", *OUTCOMES)
+                                for k in ("policy", "category", "split", "resistance", *OUTCOMES)
                             }
                         )
                     )

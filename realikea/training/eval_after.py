@@ -4,9 +4,13 @@ resistance modes through `realikea eval`'s own code, written to `<run>/eval.json
 `realikea eval rerun run=DIR [run=DIR ...]` repeats it for finished runs (after a change to the
 evaluation, e.g. the classifier), from the run's own config and command line.
 
-Each mode is exactly `realikea eval policy=checkpoint policy.path=<checkpoint> <the run's
-command-line overrides> resistance=<mode> episodes=<n> [dr=...] [env.seed=...]` (the command
-is stored beside its result, so any entry can be re-run by hand).
+Each mode is exactly `realikea eval <the run's command-line overrides> asset.split=<split>
+policy=checkpoint policy.path=<checkpoint> resistance=<mode> episodes=<n> [dr=...]
+[env.seed=...]` (the command is stored beside its result, so any entry can be re-run by hand).
+
+The split (`train.eval_after.split`: train, test or all) defaults to `test`, the parts held out
+of training (assets/split.csv). A run made before the split existed (its config has no
+asset.split) is re-evaluated on `all`, as it was then.
 """
 
 from __future__ import annotations
@@ -22,15 +26,27 @@ from realikea.assets.cache import atomic_write_text
 
 EVAL_FILE = "eval.json"
 # run overrides the evaluation replaces or that only concern training
-_DROPPED = ("resistance", "policy", "episodes", "video", "train", "logger")
+_DROPPED = ("resistance", "policy", "episodes", "video", "train", "logger", "asset.split")
+DEFAULT_SPLIT = "test"  # evaluate on the held-out parts unless train.eval_after.split says
 
 
 def _key(override: str) -> str:
     return override.lstrip("+~").split("=", 1)[0]
 
 
+def eval_split(spec: DictConfig, default: str = DEFAULT_SPLIT) -> str:
+    """The split an evaluation spec draws from: spec.split, else `default`."""
+    from realikea.assets.split import check_split_value
+
+    return check_split_value(spec.get("split") or default)
+
+
 def eval_overrides(
-    run_overrides: list[str], checkpoint: Path, mode: str, spec: DictConfig
+    run_overrides: list[str],
+    checkpoint: Path,
+    mode: str,
+    spec: DictConfig,
+    default_split: str = DEFAULT_SPLIT,
 ) -> list[str]:
     """The `realikea eval` overrides of one mode (see the module docstring)."""
     dropped = list(_DROPPED)
@@ -43,7 +59,8 @@ def eval_overrides(
         for o in run_overrides
         if not any(_key(o) == d or _key(o).startswith(d + ".") for d in dropped)
     ]
-    out = [*kept, "policy=checkpoint", f"policy.path={Path(checkpoint).resolve()}"]
+    out = [*kept, f"asset.split={eval_split(spec, default_split)}", "policy=checkpoint"]
+    out += [f"policy.path={Path(checkpoint).resolve()}"]
     out += [f"resistance={mode}", f"episodes={int(spec.episodes)}"]
     if spec.get("dr"):
         out.append(f"dr={spec.dr}")
@@ -62,8 +79,11 @@ def evaluate_run(
     checkpoint: Path,
     run_overrides: list[str],
     train_seconds: float | None = None,
+    default_split: str = DEFAULT_SPLIT,
 ) -> dict:
-    """Evaluate `checkpoint` under every mode of `spec.resistances`; write and return eval.json."""
+    """Evaluate `checkpoint` under every mode of `spec.resistances` on the parts of
+    `spec.split` (else `default_split`); write and return eval.json."""
+    from realikea.assets.split import effective_split
     from realikea.eval.commands import eval_setup, evaluate
     from realikea.eval.table import CONTACT_STATS, cell_row
 
@@ -72,11 +92,12 @@ def evaluate_run(
         "checkpoint": Path(checkpoint).name,
         "train_seconds": train_seconds,
         "episodes": int(spec.episodes),
+        "split": eval_split(spec, default_split),
         "modes": {},
     }
     begin = time.perf_counter()
     for mode in spec.resistances:
-        overrides = eval_overrides(run_overrides, checkpoint, str(mode), spec)
+        overrides = eval_overrides(run_overrides, checkpoint, str(mode), spec, default_split)
         cfg, policy = eval_setup(overrides)
         result = evaluate(cfg, policy, progress=False)
         row = cell_row(cfg, "checkpoint", str(cfg.asset.category), str(mode), result)
@@ -87,6 +108,7 @@ def evaluate_run(
             "mean_return": _finite(
                 sum(e.get("episode_return", 0.0) for e in result.episodes) / len(result.episodes)
             ),
+            "split": effective_split(cfg.asset),
             "dr": str(cfg.dr.mode),
             "env_seed": int(cfg.env.seed),
             "command": "realikea eval " + " ".join(overrides),
@@ -98,9 +120,17 @@ def evaluate_run(
     return report
 
 
+def rerun_split(hydra: Path) -> str:
+    """The default split of a rerun: test for a run whose config has asset.split (made with the
+    held-out split), all for an older run, whose evaluation drew from every part."""
+    asset = OmegaConf.load(Path(hydra) / "config.yaml").get("asset") or {}
+    return DEFAULT_SPLIT if "split" in asset else "all"
+
+
 def rerun(overrides: list[str]) -> int:
     """`realikea eval rerun run=DIR ...`: evaluate each run's last checkpoint again with the
-    run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept)."""
+    run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept);
+    on the run's split (`rerun_split`) unless its spec names one."""
     from realikea.config import repo_path
     from realikea.errors import RealIkeaError
     from realikea.eval.sweep import checkpoints
@@ -126,5 +156,5 @@ def rerun(overrides: list[str]) -> int:
         checkpoint = found[-1][1]
         print(f"eval rerun {run.name}: {checkpoint.name}", flush=True)
         run_overrides = list(OmegaConf.load(hydra / "overrides.yaml"))
-        evaluate_run(spec, run, checkpoint, run_overrides, seconds)
+        evaluate_run(spec, run, checkpoint, run_overrides, seconds, rerun_split(hydra))
     return 0
