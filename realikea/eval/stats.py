@@ -1,0 +1,82 @@
+"""Confidence intervals for success rates: Wilson's score interval for one proportion and
+Newcombe's hybrid score interval for the difference of two independent ones.
+
+    python -m realikea.eval.stats 23/50 16/50     # each rate's interval, then their difference
+
+Newcombe (1998), "Interval estimation for the difference between independent proportions",
+method 10: the difference's interval from the two Wilson intervals. It is well-behaved at 0 and
+1 (unlike the Wald interval) and is what "the intervals overlap / the difference's interval
+includes zero" below refers to.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+Z95 = 1.959963984540054  # the standard normal's 97.5 % quantile
+
+
+def _check(k: int, n: int) -> None:
+    if n < 1 or not 0 <= k <= n:
+        raise ValueError(f"need 0 <= k <= n and n >= 1, got k={k}, n={n}")
+
+
+def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson's score interval for k successes in n trials (95 % by default)."""
+    _check(k, n)
+    p = k / n
+    denom = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def diff_interval(k1: int, n1: int, k2: int, n2: int, z: float = Z95) -> tuple[float, float]:
+    """Newcombe's interval for p1 - p2 from the two Wilson intervals (95 % by default)."""
+    (l1, u1), (l2, u2) = wilson(k1, n1, z), wilson(k2, n2, z)
+    p1, p2 = k1 / n1, k2 / n2
+    d = p1 - p2
+    return (
+        d - math.sqrt((p1 - l1) ** 2 + (u2 - p2) ** 2),
+        d + math.sqrt((u1 - p1) ** 2 + (p2 - l2) ** 2),
+    )
+
+
+def significant(k1: int, n1: int, k2: int, n2: int, z: float = Z95) -> bool:
+    """Whether the difference's interval excludes zero."""
+    lo, hi = diff_interval(k1, n1, k2, n2, z)
+    return lo > 0 or hi < 0
+
+
+def count(rate: float, n: int) -> int:
+    """Successes behind a rate printed to two decimals over n episodes (0.46 of 50 -> 23)."""
+    k = round(rate * n)
+    if abs(k / n - rate) > 0.005 + 1e-9:
+        raise ValueError(f"{rate} is not a count out of {n}")
+    return k
+
+
+def describe(k: int, n: int) -> str:
+    lo, hi = wilson(k, n)
+    return f"{k}/{n} = {k / n:.2f} [{lo:.2f}, {hi:.2f}]"
+
+
+def main(argv: list[str]) -> int:
+    """Print the Wilson interval of each K/N, and Newcombe's for the first two's difference."""
+    if not argv or any("/" not in a for a in argv):
+        print("usage: python -m realikea.eval.stats K/N [K/N ...]", file=sys.stderr)
+        return 2
+    pairs = [tuple(int(x) for x in a.split("/")) for a in argv]
+    for k, n in pairs:
+        print(describe(k, n))
+    if len(pairs) >= 2:
+        (k1, n1), (k2, n2) = pairs[:2]
+        lo, hi = diff_interval(k1, n1, k2, n2)
+        verdict = "significant" if significant(k1, n1, k2, n2) else "not significant"
+        print(f"difference {k1 / n1 - k2 / n2:+.2f} [{lo:+.2f}, {hi:+.2f}]: {verdict}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
