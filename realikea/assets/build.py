@@ -30,7 +30,7 @@ from realikea.errors import RealIkeaError
 from realikea.spawn import spawn_context
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
-CONFIG_STEPS_VERSION = "4"  # bump when steps 5-6 change what they write
+CONFIG_STEPS_VERSION = "5"  # bump when steps 5-6 change what they write
 INDEX_COLUMNS = (
     "config_id",
     "part_id",

@@ -111,6 +111,8 @@ def run_eval(args: argparse.Namespace) -> int:
         f" gripper={cfg.gripper.name} contact={cfg.contact.name}"
     )
     print(outcome_table(result))
+    for note, n in result.summary().get("policy_notes", {}).items():  # failures with a reason
+        print(f"no motion planned in {n} episode(s): {note}")
     if cfg.video:
         from realikea.assets.library import training_configurations
         from realikea.eval.video import record_strategies

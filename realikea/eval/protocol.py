@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,12 +24,13 @@ class EvalResult:
         return [e.get("outcome", "fail") for e in self.episodes]
 
     def summary(self) -> dict:
-        """`{"episodes", "fail", "partial", "success", "strategies", "success_strategies"}`:
-        the JSON line of an eval.
+        """`{"episodes", "fail", "partial", "success", "strategies", "success_strategies",
+        "policy_notes"}`: the JSON line of an eval.
 
         `strategies` holds the fraction of episodes per classifier label and
         `success_strategies` the fraction of the successful episodes per label (all zero without
-        a success); both only when contacts were logged.
+        a success); both only when contacts were logged. `policy_notes` counts the episodes per
+        reason a scripted policy gave for not moving (`WaypointPolicy.note`), only if any.
         """
         out = {"episodes": len(self.episodes), **fractions(self.outcomes)}
         labelled = [e for e in self.episodes if "strategy" in e]
@@ -37,6 +39,9 @@ class EvalResult:
             out["strategies"] = {s: labels.count(s) / len(labels) for s in STRATEGIES}
             won = [e["strategy"] for e in labelled if e.get("outcome") == "success"]
             out["success_strategies"] = {s: won.count(s) / max(len(won), 1) for s in STRATEGIES}
+        notes = Counter(e["policy_note"] for e in self.episodes if "policy_note" in e)
+        if notes:
+            out["policy_notes"] = dict(sorted(notes.items()))
         return out
 
 
@@ -63,11 +68,14 @@ def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) ->
         while len(finished) < episodes:
             obs, _, terminated, truncated, info = pool.step(policy.act(obs))
             done = np.flatnonzero(terminated | truncated)
+            notes = dict(getattr(policy, "note", {}))  # of the episodes that just ended
             if len(done):
                 policy.reset(done, pool.facts(done))
             for e in info["episodes"]:
                 env = e["env"]
                 if e.get("termination") != "worker_crash" and counts[env] < quotas[env]:
+                    if env in notes:
+                        e["policy_note"] = notes[env]
                     counts[env] += 1
                     finished.append(e)
                     bar.update(1)

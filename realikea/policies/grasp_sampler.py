@@ -22,9 +22,9 @@ touch the part at the contacts). Survivors are scored
 distance of the hand's boxes to the mesh or the front plane; level grasps near the middle of the
 part's span across the jaws break ties). The best one is executed: jaws open
 at a pregrasp `pregrasp` m back along the approach axis, advance onto the grasp, close, then pull
-linearly along the opening direction (`pull_waypoints`). The part-frame grasps are cached in memory
-per part id and mesh path and moved to the world with each episode's `SceneFacts`, so pose
-randomization is handled. Sampling is seeded and deterministic.
+along the front's opening path (`pull_waypoints`: straight on a slide, the arc on a hinge). The
+part-frame grasps are cached in memory per part id and mesh path and moved to the world with each
+episode's `SceneFacts`, so pose randomization is handled. Sampling is seeded and deterministic.
 
 Grasp files (`policy.grasps=PATH`), e.g. from a learned grasp predictor. A grasp is a TCP pose in
 the part frame (metres; the part frame's z points out of the front): rotation columns are the TCP
@@ -59,6 +59,7 @@ from realikea.errors import RealIkeaError
 from realikea.policies.scripted import (
     OPEN,
     ActionScales,
+    Pull,
     Waypoint,
     WaypointPolicy,
     pull_waypoints,
@@ -97,7 +98,9 @@ class SamplerParams:
     max_pitch: float = 0.6  # rad (task.workspace.pitch)
     reach_tolerance: float = 0.05  # rad: a file's rotation off the reachable ones
     pregrasp: float = 0.08  # m back along the approach axis
-    pull_distance: float = 0.4  # m
+    pull_distance: float = 0.4  # m along a drawer's opening direction
+    pull_angle: float = 1.2  # rad a door or flap is turned
+    pull_wrist: float = 0.3  # share of a hinged front's turn the wrist follows
 
 
 @dataclass(frozen=True)
@@ -523,7 +526,9 @@ class GraspSampler(WaypointPolicy):
             return [
                 Waypoint(position - p.pregrasp * approach, pitch, OPEN, tolerance=0.01),
                 Waypoint(position, pitch, OPEN, tolerance=0.004, hold=1, timeout=30),
-                *pull_waypoints(position, pitch, facts, p.pull_distance),
+                *pull_waypoints(
+                    position, pitch, facts, Pull(p.pull_distance, p.pull_angle, p.pull_wrist)
+                ),
             ]
         self.last_grasp = None
         if facts.config_id not in self._warned:  # once per configuration, not per episode

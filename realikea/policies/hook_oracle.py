@@ -2,9 +2,10 @@
 
 It stands in for the paper's human teleoperation: a person does not squeeze a drawer handle,
 they hook a finger behind it. The plan is made from the part's geometry alone (the part frame
-of `SceneFacts` and the catalog's dimensions), never tuned per configuration. Part frame: z out
-of the front, x along the bar or lip, y "up" for a drawer's part (finger-pull lips open towards
--y); on doors the frame and the hand are both rolled, so the same plan holds.
+of `SceneFacts` and what its visual mesh offers to catch, `catch_geometry`), never tuned per
+configuration, so imported parts work like catalog ones. Part frame: z out of the front, x
+along the bar or lip, y "up" for a drawer's part (finger-pull lips open towards -y); on doors
+the frame and the hand are both rolled, so the same plan holds.
 
 Two ways of catching the part, chosen by its category:
 
@@ -21,21 +22,26 @@ Two ways of catching the part, chosen by its category:
   (down on a knob, up on a lip), the front's joint and the stiff arm taking the cross
   component: the normal force carries the pull. The other jaw stays wide open, clear of it all.
 
-Knobs without an undercut (cylinders, cones) have no edge to get behind; the plan then wedges
-against the rim at the face and the physics decides.
+A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
+a gap behind it; a pull without a channel) gets no plan: the hand holds still with the gripper
+open, and the episode's note says why (`WaypointPolicy.note`, the eval's `policy_notes`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from realikea.policies.catch_geometry import NoCatch, catch_features_at
 from realikea.policies.scripted import (
     OPEN,
     ActionScales,
+    NoPlan,
+    Pull,
     Waypoint,
     WaypointPolicy,
+    follow,
 )
 from realikea.sim.ik import tcp_rotation
 from realikea.tasks.facts import SceneFacts
@@ -45,10 +51,6 @@ PAD_HALF_LENGTH = 0.009  # m along the approach
 PAD_THICKNESS = 0.009  # m across the jaw gap
 BODY_STEP = 0.008  # m the finger body steps back from the pad's contact plane
 
-# generator internals the catalog's dimensions imply (realikea/assets/shapes.py)
-_ROOF_MIN = 0.0064  # m: a finger pull's roof holds an M4 bore (2 x 1.7 mm + 2 x 1.2 mm + 0.6 mm)
-_KNOB_FLANGE = 0.0015  # m: the foot flange of a knob's neck
-
 
 @dataclass(frozen=True)
 class OracleParams:
@@ -56,7 +58,9 @@ class OracleParams:
 
     clearance: float = 0.002  # m kept between the hand and the part or the front while placing
     standoff: float = 0.04  # m in front of the part where the approach starts
-    pull_distance: float = 0.4  # m of the straight pull along the opening direction
+    pull_distance: float = 0.4  # m of the pull along a drawer's opening direction
+    pull_angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)
+    pull_wrist: float = 0.3  # share of a hinged front's turn the wrist follows
     wedge_pitch: float = 0.55  # rad the hand is tipped down for a knob's wedge (task limit 0.6)
     lip_pitch: float = 0.25  # rad tipped up for a lip's wedge (the wrist's limit at drawer height)
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
@@ -76,37 +80,13 @@ class Catch:
     grip: float  # gripper command while catching and pulling
 
 
-def _feature(facts: SceneFacts) -> dict:
-    """The part's catchable geometry (metres, part frame) from its catalog dimensions."""
-    d, cat = facts.part_dims, facts.category
-    proj = d["projection"]
-    if cat == "two_point":
-        height = next(
-            d[k] for k in ("bar_diameter", "bar_width", "rod_diameter", "strap_width") if k in d
-        )
-        depth = next(
-            d[k]
-            for k in ("bar_diameter", "bar_thickness", "rod_diameter", "strap_thickness")
-            if k in d
-        )
-        return {"proj": proj, "height": height, "depth": depth}
-    if cat == "knob":
-        radius = d.get("diameter", d.get("width", 0.0)) / 2
-        if "head_thickness" in d:  # a head on a neck: the head's back face
-            back, neck = proj - d["head_thickness"], d["neck_diameter"] / 2
-        elif "edge_radius" in d and "base_diameter" in d:  # tapered: the rim behind the face
-            back, neck = proj - 0.0015 - 2.2 * d["edge_radius"], d["base_diameter"] / 2
-        else:  # cylindrical: no undercut; the face's rounded rim is all there is
-            back, neck = proj - max(0.0025, 1.5 * min(0.002, 0.2 * radius)), radius
-        return {"radius": radius, "back": back, "neck": min(neck, radius)}
-    # finger pulls: the lip's inner bottom edge and the channel behind it
-    t = d["thickness"]
-    if "lip_drop" in d:
-        roof = max(_ROOF_MIN, t)
-        edge_y = roof / 2 - roof - d["lip_drop"]
-        return {"edge_y": edge_y, "edge_z": proj - t, "back": t, "top": roof / 2 - roof}
-    # cup: a half shell open at the bottom (y = -height/2), hollow down to its flange
-    return {"edge_y": -d["height"] / 2, "edge_z": proj - t, "back": 0.002, "top": 0.0}
+def _features(facts: SceneFacts) -> dict:
+    """The part's catchable geometry (metres, part frame) from its visual mesh; `NoPlan` if it
+    offers nothing to get behind."""
+    found = catch_features_at(str(facts.visual_mesh), facts.category)
+    if isinstance(found, NoCatch):
+        raise NoPlan(found.reason)
+    return asdict(found)
 
 
 class HookOracle(WaypointPolicy):
@@ -136,7 +116,7 @@ class HookOracle(WaypointPolicy):
         return float(np.clip(2.0 * aperture / facts.max_aperture - 1.0, -1.0, 1.0))
 
     def _loop(self, facts: SceneFacts) -> Catch:
-        p, f = self.params, _feature(facts)
+        p, f = self.params, _features(facts)
         approach, _ = self._axes(facts, 0.0)
         gap = f["proj"] - f["depth"]  # between the bar's back and the front
         # the pads wholly in the gap if they fit, else as deep as the front allows
@@ -148,7 +128,7 @@ class HookOracle(WaypointPolicy):
 
     def _wedge(self, facts: SceneFacts) -> Catch:
         """Lead with one pad whose inner face lies on the feature's edge, tip behind it."""
-        p, f = self.params, _feature(facts)
+        p, f = self.params, _features(facts)
         knob = facts.category == "knob"
         pitch = -p.wedge_pitch if knob else p.lip_pitch  # from above on knobs, below on lips
         a, j = self._axes(facts, pitch)
@@ -201,5 +181,9 @@ class HookOracle(WaypointPolicy):
                 Waypoint(slid, c.pitch, OPEN, tolerance=0.003, timeout=25),
                 Waypoint(at, c.pitch, OPEN, tolerance=0.002, hold=2, timeout=10),
             ]
-        pull = at + p.pull_distance * facts.pull_dir
-        return [*steps, Waypoint(pull, c.pitch, c.grip, tolerance=0.0, timeout=10**9)]
+        return [
+            *steps,
+            *follow(
+                Pull(p.pull_distance, p.pull_angle, p.pull_wrist).path(at, facts), c.pitch, c.grip
+            ),
+        ]

@@ -2,10 +2,13 @@
 
 A plan is made per episode from the scene's `SceneFacts`; `act` turns the current waypoint into
 the task's 5-D action (the same action a learned policy emits, saturated at the task's scales).
+A plan that finds nothing to do on a part (`NoPlan`) holds still with the gripper open for that
+episode, its reason kept as the episode's note (`WaypointPolicy.note`).
 """
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +21,11 @@ from realikea.tasks.open_task import ACTION_SIZE
 
 OPEN, CLOSE = 1.0, -1.0  # gripper commands (a4)
 _SLICES = observations.slices()
+_HOLD = np.array([0.0, 0.0, 0.0, 0.0, OPEN])  # no motion, gripper open
+
+
+class NoPlan(Exception):
+    """Raised by `plan` when the episode's part offers nothing to do; the message says why."""
 
 
 @dataclass(frozen=True)
@@ -77,6 +85,8 @@ class WaypointPolicy(PerEnvPolicy):
         self.phase: dict[int, int] = {}
         self.count: dict[int, int] = {}
         self.reached: dict[int, int] = {}
+        self.note: dict[int, str] = {}  # why an env's current episode has no plan (if it has none)
+        self._warned: set[str] = set()
 
     @classmethod
     def from_config(cls, cfg):
@@ -91,11 +101,22 @@ class WaypointPolicy(PerEnvPolicy):
         """Plan the new episodes of the given envs."""
         for i, f in zip(env_ids, facts, strict=True):
             i = int(i)
-            self.facts[i], self.plans[i] = f, self.plan(f)
+            self.facts[i] = f
+            self.note.pop(i, None)
+            try:
+                self.plans[i] = self.plan(f)
+            except NoPlan as why:
+                note = self.note[i] = f"{f.part_id}: {why}"
+                self.plans[i] = []
+                if note not in self._warned:
+                    self._warned.add(note)
+                    print(f"warning: {self.name} plans no motion on {note}", file=sys.stderr)
             self.phase[i] = self.count[i] = self.reached[i] = 0
 
     def _act_one(self, i: int, obs: np.ndarray) -> np.ndarray:
         plan, facts = self.plans[i], self.facts[i]
+        if not plan:  # nothing to do on this part: hold still, gripper open
+            return _HOLD.copy()
         wp = plan[self.phase[i]]
         pos, _ = tcp_state(obs, facts)
         self.count[i] += 1
@@ -109,9 +130,58 @@ class WaypointPolicy(PerEnvPolicy):
         return servo(obs, facts, wp, self.scales)
 
 
-def pull_waypoints(grasp: np.ndarray, pitch: float, facts: SceneFacts, distance: float = 0.4):
-    """Close on the grasp, then a linear pull along the opening direction at the grasp."""
+ARC_STEP = 0.03  # m of arc between two waypoints of a pull around a hinge
+
+
+def opening_path(
+    grasp: np.ndarray, facts: SceneFacts, distance: float, angle: float, wrist: float
+) -> list[tuple[np.ndarray, float]]:
+    """Where a point held on the front goes as it opens, with the hand's pitch change: straight
+    along the opening direction for `distance` (m) on a slide; along its arc about the hinge for
+    `angle` (rad) on a door or flap (a straight pull along the first tangent leaves the handle's
+    path). The hinge axis of a flap, and of a door for the rolled hand, is the hand's pitch axis:
+    the wrist turns by `wrist` times the front's turn, so the front does not turn into the
+    fingers (a flap held level stalls at 43 deg) while the Panda's wrist joints 5 and 6 keep
+    range (following fully runs them into their limits on doors before 45 deg)."""
+    if facts.joint_type == "slide":
+        return [(grasp + distance * facts.pull_dir, 0.0)]
+    axis = facts.hinge_axis / np.linalg.norm(facts.hinge_axis)
+    turn = float(axis @ facts.tcp_nominal[:, 0])  # +-1 when the hinge is the pitch axis
+    arm = grasp - facts.hinge_anchor
+    radius = np.linalg.norm(arm - arm.dot(axis) * axis)
+    steps = max(2, int(np.ceil(angle * radius / ARC_STEP)) + 1)
+    path = []
+    for theta in np.linspace(0.0, angle, steps)[1:]:
+        c, s = np.cos(theta), np.sin(theta)  # Rodrigues' rotation of the arm about the axis
+        turned = arm * c + np.cross(axis, arm) * s + axis * axis.dot(arm) * (1 - c)
+        path.append((facts.hinge_anchor + turned, wrist * turn * theta))
+    return path
+
+
+def follow(path: list[tuple[np.ndarray, float]], pitch: float, grip: float) -> list[Waypoint]:
+    """Waypoints along an opening path: each passed once within 1 cm, the last held for good."""
+    *through, (end, end_turn) = path
+    return [
+        *(Waypoint(p, pitch + t, grip, tolerance=0.01, timeout=10) for p, t in through),
+        Waypoint(end, pitch + end_turn, grip, tolerance=0.0, timeout=10**9),
+    ]
+
+
+@dataclass(frozen=True)
+class Pull:
+    """How a scripted policy pulls a front open (conf/policy/*.yaml: pull_*)."""
+
+    distance: float = 0.4  # m along a drawer's opening direction
+    angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)
+    wrist: float = 0.3  # share of a hinged front's turn the wrist follows
+
+    def path(self, grasp: np.ndarray, facts: SceneFacts) -> list[tuple[np.ndarray, float]]:
+        return opening_path(grasp, facts, self.distance, self.angle, self.wrist)
+
+
+def pull_waypoints(grasp: np.ndarray, pitch: float, facts: SceneFacts, pull: Pull = Pull()):
+    """Close on the grasp, then pull along the front's opening path (`opening_path`)."""
     return [
         Waypoint(grasp, pitch, CLOSE, tolerance=1.0, hold=8, timeout=9),
-        Waypoint(grasp + distance * facts.pull_dir, pitch, CLOSE, tolerance=0.0, timeout=10**9),
+        *follow(pull.path(grasp, facts), pitch, CLOSE),
     ]

@@ -133,12 +133,15 @@ class IKController:
         self._target = self.frame.transform_target_to_world  # set_target copies; fill this one
 
     @classmethod
-    def from_config(cls, cfg: DictConfig, nominal=NOMINAL_TCP_ROTATION, home=None) -> IKController:
+    def from_config(
+        cls, cfg: DictConfig, nominal=NOMINAL_TCP_ROTATION, home=None, base_pos=None
+    ) -> IKController:
         """Built from the composed config: robot base pose, home posture and `sim.ik` (a rolled
-        hand passes its own nominal orientation and home posture)."""
+        hand passes its own nominal orientation and home posture; a scene that placed the robot
+        passes its base position)."""
         robot, ik = cfg.sim.robot, cfg.sim.ik
         return cls(
-            base_pos=tuple(robot.base_pos),
+            base_pos=tuple(robot.base_pos if base_pos is None else base_pos),
             base_yaw=math.radians(robot.base_yaw_deg),
             home=tuple(robot.home) if home is None else tuple(home),
             dt=ik.dt,

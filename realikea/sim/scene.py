@@ -1,17 +1,25 @@
 """The task scene: the robot in front of one built configuration, on a floor, with lights.
 
 World frame: the floor is z = 0; x = 0 is the cabinet's front plane, +x points out of the front
-towards the robot, +y to the viewer's right (the configuration's own frame, lifted onto its
-plinth). The robot stands on the floor facing the cabinet (-x); the cabinet stands on a plinth whose
-height depends on the base kind, so every handle sits 0.55-0.85 m above the robot's base, where
-the Panda holds a level approach with fingers vertical through the whole opening (see
-realikea/sim/README.md for the measurements behind the layout). The configuration is attached
-with the prefix `cabinet/`; which collision source it uses is only which MJCF is passed.
+towards the robot, +y to the viewer's right (the configuration's own frame, raised to where it
+stands). Two scenes (`cfg.scene`, conf/scene/):
+
+* `kitchen` (default): the configuration stands in a fitted kitchen run (realikea/sim/kitchen.py)
+  on the floor, and the robot is placed as a mobile manipulator with a lift would be: facing the
+  handle from `scene.robot.standoff`, its base `scene.robot.handle_above_base` below the handle
+  within the lift's range.
+* `freestanding`: the configuration alone on a plinth whose height depends on the base kind, the
+  robot on the floor at `sim.robot.base_pos` (the layout every result before the kitchen used).
+
+The configuration is attached with the prefix `cabinet/`; which collision source it uses is only
+which MJCF is passed. The front joint's resistance is the mode's (`cfg.resistance`), scaled on
+hinges to the handle's lever arm (realikea/sim/resistance.py).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -20,6 +28,8 @@ from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import yaw_quat
+from realikea.sim.kitchen import add_kitchen, read_unit
+from realikea.sim.resistance import handle_resistance, lever_arm
 from realikea.sim.robot import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -108,9 +118,6 @@ def _skeleton(cfg: DictConfig) -> mujoco.MjSpec:
     )  # fmt: skip
     world.add_light(name="key", pos=[1.5, 1.0, 2.5], dir=[-0.5, -0.3, -1], castshadow=False)
     world.add_light(name="fill", pos=[1.0, -1.5, 2.0], dir=[-0.3, 0.6, -1], castshadow=False)
-    world.add_camera(
-        name="overview", pos=[1.6, -1.3, 1.5], quat=_look_at([1.6, -1.3, 1.5], [0.25, 0, 0.55])
-    )
     spec.visual.global_.offwidth = 640
     spec.visual.global_.offheight = 480
     return spec
@@ -143,9 +150,55 @@ def base_kind(cabinet: mujoco.MjSpec) -> str:
     return "door" if abs(joint.axis[2]) > 0.5 else "flap"
 
 
+@dataclass(frozen=True)
+class ClosedFront:
+    """The configuration's handle and front joint with the front closed (cabinet frame)."""
+
+    handle: np.ndarray  # (3,) the handle site
+    joint_type: str  # slide or hinge
+    anchor: np.ndarray  # (3,) a point on the joint's axis
+    lever: float  # m from the hinge axis to the handle (0 for a slide)
+
+
+def closed_front(config_mjcf: Path) -> ClosedFront:
+    """The handle and the front's joint, from the configuration compiled on its own."""
+    model = mujoco.MjModel.from_xml_path(str(config_mjcf))
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    handle = data.site("handle").xpos.copy()
+    joint = model.joint("front_joint").id
+    anchor, axis = data.xanchor[joint].copy(), data.xaxis[joint]
+    if model.jnt_type[joint] == mujoco.mjtJoint.mjJNT_SLIDE:
+        return ClosedFront(handle, "slide", anchor, 0.0)
+    return ClosedFront(handle, "hinge", anchor, lever_arm(anchor, axis, handle))
+
+
+def robot_base(scene: DictConfig, front: ClosedFront, sim: DictConfig) -> np.ndarray:
+    """Where the robot's base stands: at `sim.robot.base_pos` in the freestanding scene; in the
+    kitchen facing the handle (world frame) from the stand-off, raised by the lift to the set
+    height below it."""
+    if scene.name != "kitchen":
+        return np.asarray(sim.robot.base_pos, float)
+    robot, handle = scene.robot, front.handle
+    lo, hi = (float(v) for v in robot.lift)
+    height = min(max(float(handle[2]) - float(robot.handle_above_base), lo), hi)
+    return np.array([float(handle[0]) + float(robot.standoff), float(handle[1]), height])
+
+
+def _platform(spec: mujoco.MjSpec, base: np.ndarray) -> None:
+    """The lift column under a raised robot base (visual: nothing reaches under the arm)."""
+    if base[2] <= 0.005:
+        return
+    spec.worldbody.add_geom(
+        name="lift_column", type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.09, 0.09, base[2] / 2],
+        pos=[base[0] + 0.02, base[1], base[2] / 2], rgba=[0.35, 0.37, 0.4, 1],
+        contype=0, conaffinity=0, group=1,
+    )  # fmt: skip
+
+
 def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
     """Compile the robot (cfg.gripper) in front of one configuration (cfg.resistance applied to
-    its front joint) with the contact model of cfg.contact and the layout of cfg.sim."""
+    its front joint) in cfg.scene, with the contact model of cfg.contact and cfg.sim's physics."""
     config_mjcf = Path(config_mjcf)
     if not config_mjcf.is_file():
         raise RealIkeaError(f"MJCF not found: {config_mjcf}")
@@ -156,16 +209,35 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
     cabinet.option.timestep = spec.option.timestep
     for light in cabinet.lights:
         cabinet.delete(light)
-    plinth = cfg.sim.cabinet.plinth_height  # one height, or one per base kind
-    height = float(plinth[base_kind(cabinet)] if isinstance(plinth, DictConfig) else plinth)
-    _plinth(cabinet, height)
+    kind, scene = base_kind(cabinet), cfg.scene
+    if scene.name == "kitchen":
+        height = add_kitchen(cabinet, read_unit(cabinet, kind), scene)
+    else:
+        plinth = scene.plinth_height  # one height, or one per base kind
+        height = float(plinth[kind] if isinstance(plinth, DictConfig) else plinth)
+        _plinth(cabinet, height)
     frame = spec.worldbody.add_frame(pos=[0.0, 0.0, height])
     spec.attach(cabinet, prefix=PREFIX, frame=frame)
+    closed = closed_front(config_mjcf)
+    lift = np.array([0.0, 0.0, height])
+    front = ClosedFront(closed.handle + lift, closed.joint_type, closed.anchor + lift, closed.lever)
+    handle = front.handle
+    base = robot_base(scene, front, cfg.sim)
+    spec.body("link0").pos = base
+    _platform(spec, base)
+    eye = handle + np.array([1.35, -1.3, 0.95])  # the overview camera, aimed at the handle
+    spec.worldbody.add_camera(name="overview", pos=eye, quat=_look_at(eye, handle + [0.22, 0, 0]))
     joint = spec.joint(FRONT_JOINT)
+    damping_value, friction_value = handle_resistance(
+        front.joint_type,
+        front.lever,
+        float(cfg.resistance.damping),
+        float(cfg.resistance.frictionloss),
+    )
     damping = np.array(joint.damping, dtype=float, ndmin=1)  # MuJoCo 4: polynomial coefficients
-    damping[0] = float(cfg.resistance.damping)
+    damping[0] = damping_value
     joint.damping = damping if np.ndim(joint.damping) else float(damping[0])
-    joint.frictionloss = float(cfg.resistance.frictionloss)
+    joint.frictionloss = friction_value
     try:
         return spec.compile()
     except ValueError as err:

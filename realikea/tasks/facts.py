@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -28,7 +28,6 @@ class SceneFacts:
     hinge_axis: np.ndarray | None  # (3,) unit; opening turns positively about it
     visual_mesh: str  # the part's visual mesh (part frame, metres)
     tcp_nominal: np.ndarray  # (3, 3) the TCP orientation at pitch 0 (roll fixed per scene)
-    part_dims: dict[str, float] = field(default_factory=dict)
     pad_friction: float = 1.0
     max_aperture: float = 0.08  # m between the open jaws
 

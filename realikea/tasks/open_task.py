@@ -93,15 +93,15 @@ class OpenTask:
         self.data = mujoco.MjData(self.model)
         self.config_id = Path(config_mjcf).parent.name
         self.part, self.base = _catalog_entries(self.config_id)
-        # roll fixed per configuration: the jaws close across the handle (vertical on doors);
-        # the hand is symmetric under a half turn, so -90 deg is +90 deg
-        self.nominal = rolled_nominal(math.radians(self.base.mount_roll_deg % 180.0))
+        roll = _hand_roll(self.model, self.base.mount_roll_deg)
+        self.nominal = rolled_nominal(roll)
         self.home = np.asarray(cfg.sim.robot.home, float)
-        if self.base.mount_roll_deg % 180.0:
-            rolled = IKController.from_config(cfg, nominal=self.nominal)
+        base = self.model.body("link0").pos.copy()  # where the scene placed the robot
+        if roll:  # turning the hand about its approach axis is turning joint 7
+            rolled = IKController.from_config(cfg, nominal=self.nominal, base_pos=base)
             position, _ = rolled.tcp_pose(self.home)
-            self.home = rolled.converge(self.home, position, 0.0)
-        self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home)
+            self.home = rolled.converge(self.home - [0, 0, 0, 0, 0, 0, roll], position, 0.0)
+        self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home, base_pos=base)
         self.gripper = GripperModel.from_config(cfg.gripper)
         self.params = RewardParams(**task.reward)
         self.randomization = Randomization.from_config(cfg.dr)
@@ -192,7 +192,6 @@ class OpenTask:
             hinge_axis=axis,
             visual_mesh=self._mesh,
             tcp_nominal=self.nominal,
-            part_dims=dict(self.part.dims),
             pad_friction=self.gripper.pad_friction,
             max_aperture=2 * self.gripper.stroke,
         )
@@ -317,6 +316,21 @@ class OpenTask:
         ok = self.apply_action(action)
         self.simulate()
         return self.evaluate(ok)
+
+
+def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float) -> float:
+    """The hand's roll (rad) about its approach axis in a configuration, fixed so the jaws close
+    across the handle (vertical on doors). The hand is symmetric under a half turn, so of the
+    two rolls that do, a hinged front gets the one whose opening turns the wrist in the positive
+    pitch direction, where the Panda's wrist has its range (about +1.5 rad against -0.7 rad for
+    the rolled hand at handle height, `python experiments/reach.py`)."""
+    roll = math.radians(mount_roll_deg % 180.0)
+    joint = model.joint(FRONT_JOINT)
+    if joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE:
+        axis = model.jnt_axis[joint.id]  # the front's frame is the world's, turned by no more
+        if float(axis @ rolled_nominal(roll)[:, 0]) < 0:  # than the pose randomization's degrees
+            roll -= math.pi
+    return roll
 
 
 def _catalog_entries(config_id: str):

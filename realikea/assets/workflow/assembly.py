@@ -16,6 +16,7 @@ from scipy.spatial.transform import Rotation
 
 from realikea.assets.catalog import Base, Part
 from realikea.assets.workflow.clipping import inset_half_extents
+from realikea.sim.resistance import handle_resistance, lever_arm
 
 PANEL = 0.018  # m carcass board thickness
 TRAY_BOARD = 0.012  # m drawer tray board thickness
@@ -137,18 +138,24 @@ def mount_pose(base: Base) -> tuple[np.ndarray, np.ndarray]:
     return pos, np.array([w, x, y, z])
 
 
-def front_joint(base: Base, damping: float, frictionloss: float) -> Joint:
-    """Slide along +x for drawers; hinge at the front's back edge for doors and flaps."""
+def front_joint(base: Base, damping: float, frictionloss: float, handle: np.ndarray) -> Joint:
+    """Slide along +x for drawers; for doors and flaps a hinge along the front's outer edge (where
+    a concealed hinge's linkage swings it clear of a neighbouring front 3 mm away), its
+    resistance scaled to the lever arm of `handle` (front frame) so the handle feels a drawer's."""
     _, half = front_outline(base)
     if base.kind == "drawer":
         return Joint(
             "front_joint", "slide", (0, 0, 0), (1, 0, 0), (0, base.travel), damping, frictionloss
         )
+    face = FRONT_GAP + base.front_thickness
     if base.kind == "flap":
-        pos, axis = (FRONT_GAP, 0, base.reveal), (0, 1, 0)
+        pos, axis = (face, 0, base.reveal), (0, 1, 0)
     else:
         side = -1 if base.hinge == "left" else 1
-        pos, axis = (FRONT_GAP, side * half[1], 0), (0, 0, side)
+        pos, axis = (face, side * half[1], 0), (0, 0, side)
+    damping, frictionloss = handle_resistance(
+        "hinge", lever_arm(pos, axis, handle), damping, frictionloss
+    )
     return Joint("front_joint", "hinge", pos, axis, (0, base.travel), damping, frictionloss)
 
 
@@ -226,7 +233,8 @@ def assemble(
         "part", part_geoms, pos=tuple(pos), quat=tuple(quat), sites=[Site("handle", tuple(handle))]
     )
     trays = drawer_tray(base) if base.kind == "drawer" else []
-    joint = front_joint(base, damping, frictionloss)
+    mount = Rotation.from_quat(np.roll(quat, -1))  # scipy wants (x, y, z, w)
+    joint = front_joint(base, damping, frictionloss, pos + mount.apply(handle))
     moving = Body("front", front + trays, joint, children=[mounted])
     meshes = {"part_visual": visual_mesh, **collision_meshes}
     return Assembly(f"{part.id}__{base.id}", [carcass(base), moving], meshes)
