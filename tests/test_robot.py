@@ -21,6 +21,7 @@ from realikea.sim.ik import (
     tcp_pitch,
     tcp_rotation,
 )
+from realikea.sim.resistance import handle_resistance
 from realikea.sim.robot import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -42,6 +43,7 @@ from realikea.sim.scene import (
     HANDLE_SITE,
     TCP_SITE,
     build_scene,
+    closed_front,
     config_mjcf,
     reset_home,
 )
@@ -243,10 +245,15 @@ def test_pyramidal_pinch_creeps_below_coulomb(record_property):
 @pytest.mark.parametrize("source", ["coacd", "hull"])
 @pytest.mark.parametrize("base", BASES)
 def test_scene_builds_with_resistance_contact_and_layout(library, base, source):
-    cfg = load_config(["resistance=high", "contact=pyramidal", "gripper=menagerie_servo"])
-    model = build_scene(config_mjcf(library, f"{PART}__{base}", source), cfg)
+    cfg = load_config(
+        ["resistance=high", "contact=pyramidal", "gripper=menagerie_servo", "scene=freestanding"]
+    )
+    mjcf = config_mjcf(library, f"{PART}__{base}", source)
+    model = build_scene(mjcf, cfg)
     dof = model.jnt_dofadr[model.joint(FRONT_JOINT).id]
-    assert model.dof_damping[dof] == 10.0 and model.dof_frictionloss[dof] == 20.0
+    front = closed_front(mjcf)  # hinges: the drawer's values scaled to the handle's lever arm
+    expected = handle_resistance(front.joint_type, front.lever, 10.0, 20.0)
+    assert (model.dof_damping[dof], model.dof_frictionloss[dof]) == pytest.approx(expected)
     assert model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and model.opt.impratio == 1.0
     assert model.opt.timestep == 0.002
     assert model.actuator(GRIPPER_ACTUATOR).ctrlrange[1] == 255.0
@@ -270,7 +277,8 @@ def scripted_pinch_pull(mjcf, overrides, pull=0.3) -> tuple[float, float]:
     model = build_scene(mjcf, cfg)
     data = mujoco.MjData(model)
     reset_home(model, data, cfg)
-    ik, grip = IKController.from_config(cfg), GripperModel.from_config(cfg.gripper)
+    base = model.body("link0").pos
+    ik, grip = IKController.from_config(cfg, base_pos=base), GripperModel.from_config(cfg.gripper)
     arm = [model.jnt_qposadr[model.joint(j).id] for j in ARM_JOINTS]
     acts = [model.actuator(a).id for a in ARM_ACTUATORS]
     front = model.jnt_qposadr[model.joint(FRONT_JOINT).id]
@@ -325,7 +333,7 @@ def test_ik_reaches_a_target_near_each_handle(library, base):
     model = build_scene(config_mjcf(library, f"{PART}__{base}", "coacd"), cfg)
     data = mujoco.MjData(model)
     reset_home(model, data, cfg)
-    ik = IKController.from_config(cfg)
+    ik = IKController.from_config(cfg, base_pos=model.body("link0").pos)
     q = np.asarray(cfg.sim.robot.home, float)
     start, _ = ik.tcp_pose(q)
     target = data.site(HANDLE_SITE).xpos + np.array([0.03, 0.0, 0.0])  # just in front of it

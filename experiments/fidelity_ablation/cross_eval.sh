@@ -15,7 +15,8 @@ trap 'rm -f "$TMP"' EXIT
   echo "# Learned strategies under a slipping grasp (two-point drawers, high resistance)"
   echo
   echo "Command: \`bash experiments/fidelity_ablation/cross_eval.sh\` ($EPISODES episodes a row,"
-  echo "randomized poses, held-out draw \`env.seed=1000\`). Both policies were trained with"
+  echo "randomized poses, held-out draw \`env.seed=1000\` over all parts, freestanding scene as"
+  echo "the runs were trained). Both policies were trained with"
   echo "\`franka_hand\` and elliptic cones in high resistance"
   echo "(runs/*_high_two_point_franka_hand_s<seed>, seeds $SEEDS); each is evaluated with its own"
   echo "collision source."
@@ -28,8 +29,8 @@ for seed in $SEEDS; do
     for preset in "contact=elliptic" "contact=pyramidal" "gripper.grasp_force=10" "gripper=menagerie_servo"; do
       line=$(realikea eval policy=checkpoint \
         policy.path="experiments/fidelity_ablation/runs/${collision}_high_two_point_franka_hand_s${seed}/model_499.pt" \
-        asset=two_point asset.kind=drawer collision="$collision" resistance=high dr=randomized \
-        env.seed=1000 episodes="$EPISODES" $preset 2>/dev/null | tail -1)
+        asset=two_point asset.kind=drawer asset.split=all scene=freestanding \
+        collision="$collision" resistance=high dr=randomized env.seed=1000 episodes="$EPISODES" $preset 2>/dev/null | tail -1)
       python - "$collision" "$seed" "$preset" "$line" >> "$TMP" <<'PY'
 import json, sys
 collision, seed, preset, line = *sys.argv[1:4], json.loads(sys.argv[4])

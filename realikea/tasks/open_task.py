@@ -113,6 +113,7 @@ class OpenTask:
         self.pitch_scale = float(task.action.pitch_scale)
         self.translation_scale = float(task.action.translation_scale)
         self.o1, self.o2 = (np.asarray(task.targets[k], float) for k in ("o1", "o2"))
+        self.lateral_bias = float(task.targets.get("lateral_bias", 0.0))
         # plain numbers: OmegaConf lookups cost tens of microseconds each on the hot path
         ws = task.workspace
         self.workspace = (np.asarray(ws.below, float), np.asarray(ws.above, float))
@@ -136,6 +137,7 @@ class OpenTask:
         self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
+        self._t1, self._t2 = self.o1, self.o2
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
         contacts = task.contacts
         self.classifier = ClassifierParams(
@@ -160,7 +162,7 @@ class OpenTask:
     def _targets(self) -> tuple[float, float]:
         """Distances of the TCP to the targets t1, t2 (np.linalg.norm's arithmetic, in floats)."""
         rel = self.data.site_xpos[self._tcp] - self.data.site_xpos[self._handle]
-        e1, e2 = rel - self.o1, rel - self.o2
+        e1, e2 = rel - self._t1, rel - self._t2
         return math.sqrt(e1.dot(e1)), math.sqrt(e2.dot(e2))
 
     def pull_direction(self) -> np.ndarray:
@@ -220,6 +222,9 @@ class OpenTask:
         reset_home(self.model, self.data, self.cfg, self.home)
         self.state = EpisodeState()
         self._nominal_handle = self.data.site_xpos[self._handle].copy()
+        # the paper's approach offsets share one lateral bias, along the handle's long axis
+        lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
+        self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
         d1, d2 = self._targets()
         self.state.stage = int(next_stage(1, d1, d2, self.aperture, self.params))
         return self.observe()

@@ -127,6 +127,13 @@ def rerun_split(hydra: Path) -> str:
     return DEFAULT_SPLIT if "split" in asset else "all"
 
 
+def run_scene(hydra: Path) -> list[str]:
+    """The scene override that re-evaluates a run where it was trained: none for a run whose
+    config has a scene (its command line or the default carries it), `scene=freestanding` for a
+    run made before the kitchen scene existed."""
+    return [] if "scene" in OmegaConf.load(Path(hydra) / "config.yaml") else ["scene=freestanding"]
+
+
 def rerun(overrides: list[str]) -> int:
     """`realikea eval rerun run=DIR ...`: evaluate each run's last checkpoint again with the
     run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept);
@@ -155,6 +162,6 @@ def rerun(overrides: list[str]) -> int:
             seconds = json.loads(previous.read_text()).get("train_seconds")
         checkpoint = found[-1][1]
         print(f"eval rerun {run.name}: {checkpoint.name}", flush=True)
-        run_overrides = list(OmegaConf.load(hydra / "overrides.yaml"))
+        run_overrides = [*OmegaConf.load(hydra / "overrides.yaml"), *run_scene(hydra)]
         evaluate_run(spec, run, checkpoint, run_overrides, seconds, rerun_split(hydra))
     return 0

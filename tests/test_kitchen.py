@@ -1,0 +1,119 @@
+"""The kitchen scene: fronts 3 mm from neighbours that never touch the opening front, the
+robot placed by its lift, and scenes named by the config."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+from realikea.sim.scene import FRONT_BODY, FRONT_JOINT, HANDLE_SITE, build_scene, reset_home
+
+OPENED = {"slide": 0.20, "hinge": 0.785}  # the success thresholds of conf/task/open.yaml
+
+
+def _kitchen_geoms(model) -> list[int]:
+    return [g for g in range(model.ngeom) if "kitchen_" in (model.geom(g).name or "")]
+
+
+def _front_geoms(model) -> list[int]:
+    """Every geom of the moving front and what is welded to it (the part)."""
+    front = model.body(FRONT_BODY).id
+    bodies = {b for b in range(model.nbody) if b == front or model.body_parentid[b] == front}
+    return [g for g in range(model.ngeom) if model.geom_bodyid[g] in bodies]
+
+
+def _gap(model, data, geom_a: int, geoms: list[int]) -> float:
+    """Smallest distance from one geom to any of the others (m), up to 5 cm."""
+    fromto = np.zeros(6)
+    return min(mujoco.mj_geomDistance(model, data, geom_a, g, 0.05, fromto) for g in geoms)
+
+
+@pytest.fixture(scope="module")
+def scenes(sample_library):
+    """Default-config (kitchen) scenes of the sample's first part on every sample base."""
+    out, _ = sample_library
+    cfg = load_config(["resistance=high"])
+    ids = sorted({p.parent.name for p in out.glob("*/model_coacd.xml")})
+    part = ids[0].split("__")[0]
+    return cfg, {
+        i: build_scene(out / i / "model_coacd.xml", cfg) for i in ids if i.startswith(part)
+    }
+
+
+def test_neighbouring_fronts_stand_3_mm_from_the_front(scenes):
+    cfg, models = scenes
+    for config_id, model in models.items():
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        kitchen = _kitchen_geoms(model)
+        assert kitchen, config_id
+        fronts = [g for g in kitchen if "front" in model.geom(g).name]
+        gap = _gap(model, data, model.geom("cabinet/front_visual").id, fronts)
+        assert gap == pytest.approx(cfg.scene.front_gap, abs=2e-4), config_id
+
+
+def test_the_front_opens_past_success_without_touching_the_kitchen(scenes):
+    cfg, models = scenes
+    for config_id, model in models.items():
+        data = mujoco.MjData(model)
+        reset_home(model, data, cfg)
+        joint = model.joint(FRONT_JOINT)
+        kind = "slide" if joint.type[0] == mujoco.mjtJoint.mjJNT_SLIDE else "hinge"
+        kitchen, front = set(_kitchen_geoms(model)), set(_front_geoms(model))
+        for q in np.linspace(0.0, 1.2 * OPENED[kind], 13):
+            data.qpos[model.jnt_qposadr[joint.id]] = q
+            mujoco.mj_forward(model, data)
+            touching = [
+                (model.geom(c.geom1).name, model.geom(c.geom2).name)
+                for c in data.contact[: data.ncon]
+                if {c.geom1, c.geom2} & front and {c.geom1, c.geom2} & kitchen
+            ]
+            assert not touching, (config_id, q, touching)
+
+
+def test_the_lift_sets_the_robot_below_the_handle(scenes):
+    cfg, models = scenes
+    robot = cfg.scene.robot
+    for config_id, model in models.items():
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        base, handle = data.body("link0").xpos, data.site(HANDLE_SITE).xpos
+        lo, hi = robot.lift
+        assert lo <= base[2] <= hi, config_id
+        if lo < base[2] < hi:
+            assert handle[2] - base[2] == pytest.approx(robot.handle_above_base), config_id
+        assert base[0] - handle[0] == pytest.approx(robot.standoff), config_id
+        assert base[1] == pytest.approx(handle[1]), config_id
+
+
+def test_the_flap_hangs_in_a_wall_unit_and_drawers_stand_on_the_floor(scenes):
+    cfg, models = scenes
+    worktop = cfg.scene.plinth_height + cfg.scene.carcass_height + cfg.scene.worktop_thickness
+    for config_id, model in models.items():
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        bottom = data.body("cabinet/unit").xpos[2]
+        if "flap" in config_id:
+            assert bottom == pytest.approx(worktop + cfg.scene.wall_unit_above_worktop)
+        else:
+            assert cfg.scene.plinth_height - 1e-9 <= bottom < worktop
+
+
+def test_an_unknown_scene_lists_the_options():
+    with pytest.raises(RealIkeaError, match="(?s)scene.*freestanding.*kitchen"):
+        load_config(["scene=galley"])
+
+
+def test_freestanding_keeps_the_old_layout(sample_library):
+    out, _ = sample_library
+    cfg = load_config(["scene=freestanding"])
+    mjcf = next(out.glob("*__drawer_w60_h20/model_coacd.xml"))
+    model = build_scene(mjcf, cfg)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    np.testing.assert_allclose(data.body("link0").xpos, cfg.sim.robot.base_pos)
+    assert data.body("cabinet/unit").xpos[2] == pytest.approx(cfg.scene.plinth_height.drawer)
+    assert not _kitchen_geoms(model)
