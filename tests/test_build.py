@@ -8,6 +8,7 @@ import shutil
 
 import mujoco
 import numpy as np
+import pytest
 from conftest import build_sample
 
 from realikea.assets.build import (
@@ -17,6 +18,7 @@ from realikea.assets.build import (
     part_key,
 )
 from realikea.assets.library import load_model, read_index
+from realikea.sim.resistance import handle_resistance, lever_arm
 
 NORMAL = Resistance("normal", 5.0, 10.0)
 
@@ -67,8 +69,11 @@ def test_joint_resistance_and_opening_direction(sample_library):
     out, _ = sample_library
     for row in read_index(out):
         model = load_model(out / row["mjcf_coacd"])
-        assert (model.dof_damping[0], model.dof_frictionloss[0]) == (10.0, 20.0)
         data = mujoco.MjData(model)
+        mujoco.mj_kinematics(model, data)
+        lever = lever_arm(data.xanchor[0], data.xaxis[0], data.site("handle").xpos)
+        expected = handle_resistance(row["joint_type"], lever, 10.0, 20.0)  # hinges: at the handle
+        assert (model.dof_damping[0], model.dof_frictionloss[0]) == pytest.approx(expected)
         part = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "part_visual")
         mujoco.mj_forward(model, data)
         closed = data.geom_xpos[part].copy()
