@@ -89,13 +89,12 @@ class _Boxes:
     """Adds named colliding boxes to a body from their min / max corners (cabinet frame)."""
 
     def __init__(self, body: mujoco.MjsBody):
-        self.body, self.count = body, 0
+        self.body = body
 
     def add(self, name: str, lo, hi, rgba) -> None:
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
         if np.any(hi - lo <= 0):
             return
-        self.count += 1
         self.body.add_geom(
             name=f"kitchen_{name}", type=mujoco.mjtGeom.mjGEOM_BOX, size=(hi - lo) / 2,
             pos=(hi + lo) / 2, rgba=list(rgba), group=1,

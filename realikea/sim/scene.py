@@ -156,7 +156,6 @@ class ClosedFront:
 
     handle: np.ndarray  # (3,) the handle site
     joint_type: str  # slide or hinge
-    anchor: np.ndarray  # (3,) a point on the joint's axis
     lever: float  # m from the hinge axis to the handle (0 for a slide)
 
 
@@ -167,19 +166,18 @@ def closed_front(config_mjcf: Path) -> ClosedFront:
     mujoco.mj_kinematics(model, data)
     handle = data.site("handle").xpos.copy()
     joint = model.joint("front_joint").id
-    anchor, axis = data.xanchor[joint].copy(), data.xaxis[joint]
     if model.jnt_type[joint] == mujoco.mjtJoint.mjJNT_SLIDE:
-        return ClosedFront(handle, "slide", anchor, 0.0)
-    return ClosedFront(handle, "hinge", anchor, lever_arm(anchor, axis, handle))
+        return ClosedFront(handle, "slide", 0.0)
+    return ClosedFront(handle, "hinge", lever_arm(data.xanchor[joint], data.xaxis[joint], handle))
 
 
-def robot_base(scene: DictConfig, front: ClosedFront, sim: DictConfig) -> np.ndarray:
+def robot_base(scene: DictConfig, handle: np.ndarray, sim: DictConfig) -> np.ndarray:
     """Where the robot's base stands: at `sim.robot.base_pos` in the freestanding scene; in the
     kitchen facing the handle (world frame) from the stand-off, raised by the lift to the set
     height below it."""
     if scene.name != "kitchen":
         return np.asarray(sim.robot.base_pos, float)
-    robot, handle = scene.robot, front.handle
+    robot = scene.robot
     lo, hi = (float(v) for v in robot.lift)
     height = min(max(float(handle[2]) - float(robot.handle_above_base), lo), hi)
     return np.array([float(handle[0]) + float(robot.standoff), float(handle[1]), height])
@@ -218,11 +216,9 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
         _plinth(cabinet, height)
     frame = spec.worldbody.add_frame(pos=[0.0, 0.0, height])
     spec.attach(cabinet, prefix=PREFIX, frame=frame)
-    closed = closed_front(config_mjcf)
-    lift = np.array([0.0, 0.0, height])
-    front = ClosedFront(closed.handle + lift, closed.joint_type, closed.anchor + lift, closed.lever)
-    handle = front.handle
-    base = robot_base(scene, front, cfg.sim)
+    front = closed_front(config_mjcf)
+    handle = front.handle + [0.0, 0.0, height]  # in the world
+    base = robot_base(scene, handle, cfg.sim)
     spec.body("link0").pos = base
     _platform(spec, base)
     eye = handle + np.array([1.35, -1.3, 0.95])  # the overview camera, aimed at the handle
