@@ -1,7 +1,8 @@
 """Cross-preset report of Table 2: where the friction trap appears and why (experiments/table2).
 
-Reads every `<gripper>_<contact>/table2.csv` written by `realikea eval table` and writes
-`report.md` (findings computed from the CSVs) and `success.png` next to this script.
+Reads every `<kind>/<gripper>_<contact>/table2.csv` written by `realikea eval table` (kinds:
+drawer, door) and the grip sweep's, and writes `report.md` (findings computed from the CSVs)
+and `success.png` next to this script.
 Usage: python experiments/table2/report.py
 """
 
@@ -17,16 +18,20 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from omegaconf import OmegaConf  # noqa: E402
 
+from realikea.eval.stats import wilson  # noqa: E402
+
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 MODES = ("smooth", "normal", "high")
 CATEGORIES = ("knob", "finger_pull", "two_point")
+KINDS = ("drawer", "door")
 FRICTION_BASED = ("heuristic_pull", "grasp_sampler")
 TRAP_SMOOTH, TRAP_HIGH = 0.6, 0.1  # a trap: friction-based success >= 0.6 smooth, <= 0.1 high
 
 
-def load(pattern: str = "*_*/table2.csv") -> dict[str, list[dict]]:
-    """folder name -> rows of its table2.csv (numbers as floats)."""
+def load(pattern: str) -> dict[str, list[dict]]:
+    """folder path under this directory ("door/franka_hand_elliptic") -> rows of its table2.csv
+    (numbers as floats)."""
     presets = {}
     for path in sorted(HERE.glob(pattern), key=lambda p: (len(p.parent.name), p.parent.name)):
         with path.open() as f:
@@ -35,9 +40,9 @@ def load(pattern: str = "*_*/table2.csv") -> dict[str, list[dict]]:
             for key, value in row.items():
                 with contextlib.suppress(ValueError):
                     row[key] = float(value)
-        presets[path.parent.name] = rows
+        presets[path.parent.relative_to(HERE).as_posix()] = rows
     if not presets:
-        raise SystemExit(f"no */table2.csv under {HERE}: run experiments/table2/run.sh first")
+        raise SystemExit(f"no {pattern} under {HERE}: run experiments/table2/run.sh first")
     return presets
 
 
@@ -88,14 +93,19 @@ def plot(presets: dict[str, list[dict]], path: Path) -> None:
 
 
 def main() -> None:
-    presets = load()
+    presets = {}
+    for kind in KINDS:
+        presets.update(load(f"{kind}/*_*/table2.csv"))
+    first = next(iter(presets.values()))[0]
     lines = [
-        "# Table 2 under every gripper x contact preset",
+        "# Table 2 under every gripper x contact preset, on drawers and doors",
         "",
-        "Command: `bash experiments/table2/run.sh` (runs `realikea eval table` per preset, then "
-        "this report: `python experiments/table2/report.py`). Drawers as in the paper, pose "
-        "randomization on, CoACD collision. Per-preset tables (F/P/S in the paper's layout, "
-        "strategy labels and slip statistics per cell): "
+        "Command: `bash experiments/table2/run.sh` (runs `realikea eval table` per kind and "
+        "preset, then this report: `python experiments/table2/report.py`). "
+        f"Scene {first['scene']}, {first['split']} parts, {int(first['episodes'])} episodes a "
+        f"cell, pose randomization on, {first['collision']} collision; drawers as in the paper, "
+        "and doors. Per kind and preset, the tables (F/P/S in the paper's layout, strategy "
+        "labels and slip statistics per cell): "
         + ", ".join(f"[{n}]({n}/table2.md)" for n in presets)
         + ".",
         "",
@@ -104,9 +114,10 @@ def main() -> None:
         "## Does the friction trap appear?",
         "",
         f"Trap: a friction-based baseline succeeds in smooth (>= {TRAP_SMOOTH}) and collapses in "
-        f"high (<= {TRAP_HIGH}). Success smooth -> normal -> high:",
+        f"high (<= {TRAP_HIGH}). Success smooth -> normal -> high (at 50 episodes a rate's "
+        "95 % interval spans up to +-14 points: `python -m realikea.eval.stats K/N`):",
         "",
-        "| preset | policy | knob | finger pull | two-point | trap on |",
+        "| kind/preset | policy | knob | finger pull | two-point | trap on |",
         "|---|---|---|---|---|---|",
     ]
     for name, rows in presets.items():
@@ -126,18 +137,25 @@ def main() -> None:
                 lines.append(f"| {name} | {policy} | " + " | ".join(cells) + f" | {trap} |")
     lines += [
         "",
-        "## Form closure: hook_oracle on two-point handles in high resistance",
+        "## Form closure: hook_oracle in high resistance",
         "",
-        "| preset | success | partial | fail | classified hook | friction share |",
-        "|---|---:|---:|---:|---:|---:|",
+        "Success with its Wilson 95 % interval; hook and lever: fractions of all episodes.",
+        "",
+        "| kind/preset | category | success | partial | fail | hook | lever | friction share |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     for name, rows in presets.items():
-        c = cell(rows, "hook_oracle", "two_point", "high")
-        if c:
-            lines.append(
-                f"| {name} | {c['success']:.2f} | {c['partial']:.2f} | {c['fail']:.2f} | "
-                f"{c['strategy_hook']:.2f} | {c['friction_share']:.2f} |"
-            )
+        for category in CATEGORIES:
+            c = cell(rows, "hook_oracle", category, "high")
+            if c:
+                n = int(c["episodes"])
+                lo, hi = wilson(round(c["success"] * n), n)
+                lines.append(
+                    f"| {name} | {category} | {c['success']:.2f} [{lo:.2f}, {hi:.2f}] | "
+                    f"{c['partial']:.2f} | "
+                    f"{c['fail']:.2f} | {c['strategy_hook']:.2f} | {c['strategy_lever']:.2f} | "
+                    f"{c['friction_share']:.2f} |"
+                )
     pulls = ", ".join(f"{m} {resistance_pull(m):.0f} N" for m in MODES)
     lines += [
         "",
@@ -151,7 +169,7 @@ def main() -> None:
         "grip = half the summed contact normal force, capacity = 2 mu grip, slip ratio = "
         "friction pull / (mu x summed normal force) at the peak pull (1 = sliding).",
         "",
-        "| preset | policy | category | mode | S | grip (N) | capacity (N) | peak pull (N) | "
+        "| kind/preset | policy | category | mode | S | grip (N) | capacity (N) | peak pull (N) | "
         "slip ratio | normal angle (deg) |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
     ]
@@ -176,7 +194,7 @@ def main() -> None:
             "",
             "A sensitivity run, not a calibration: `heuristic_pull` with `franka_hand` and "
             "elliptic cones at a lower continuous grasp force per jaw "
-            "(`gripper.grasp_force=F`; `grip_sweep/*/table2.md`), next to the two presets' "
+            "(`gripper.grasp_force=F`; `grip_sweep/*/table2.md`; drawers), next to the presets' "
             "actual drives (70 N; Menagerie's servo, about 0.3 N on a 12 mm bar). Success "
             "smooth -> normal -> high, and the slip ratio at the peak pull in high:",
             "",

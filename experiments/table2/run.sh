@@ -1,23 +1,34 @@
 #!/usr/bin/env bash
-# The paper's Table 2 under every gripper x contact preset, then the cross-preset report.
+# The paper's Table 2 in the kitchen scene on the held-out test parts, on drawers and on doors,
+# under every gripper x contact preset; then the grip-force sensitivity run and the report.
 # Usage: bash experiments/table2/run.sh [EPISODES]   (default 50 episodes per cell)
-# Each preset writes experiments/table2/<gripper>_<contact>/table2.{csv,md};
-# report.py writes experiments/table2/report.md and success.png from them.
+# Each kind x preset writes experiments/table2/<kind>/<gripper>_<contact>/table2.{csv,md};
+# report.py writes experiments/table2/report.md and success.png from them; wall times go to
+# experiments/table2/timing.txt.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
-for gripper in franka_hand menagerie_servo; do
-  for contact in elliptic pyramidal; do
-    echo "=== gripper=$gripper contact=$contact"
-    start=$SECONDS
-    realikea eval table gripper="$gripper" contact="$contact" episodes="$EPISODES"
-    echo "preset $gripper $contact seconds $((SECONDS - start))"
+HERE=experiments/table2
+COMMON=(scene=kitchen asset.split=test episodes="$EPISODES")
+: > "$HERE/timing.txt"
+for kind in drawer door; do
+  for gripper in franka_hand menagerie_servo; do
+    for contact in elliptic pyramidal; do
+      echo "=== kind=$kind gripper=$gripper contact=$contact"
+      start=$SECONDS
+      realikea eval table gripper="$gripper" contact="$contact" table.kind="$kind" "${COMMON[@]}" \
+        table.out="$HERE/$kind/${gripper}_${contact}"
+      echo "$kind $gripper $contact: $((SECONDS - start)) s" >> "$HERE/timing.txt"
+    done
   done
 done
-# sensitivity of the friction-based pull to the grip force (not a calibration: see README.md)
+# sensitivity of the friction-based pull to the grip force, on drawers (not a calibration: see
+# README.md)
 for force in 5 10 20; do
+  start=$SECONDS
   realikea eval table gripper=franka_hand contact=elliptic gripper.grasp_force="$force" \
-    "table.policies=[heuristic_pull]" "table.categories=[knob,finger_pull]" episodes="$EPISODES" \
-    table.out="experiments/table2/grip_sweep/franka_hand_elliptic_${force}N"
+    "table.policies=[heuristic_pull]" "table.categories=[knob,finger_pull]" table.kind=drawer \
+    "${COMMON[@]}" table.out="$HERE/grip_sweep/franka_hand_elliptic_${force}N"
+  echo "grip sweep drawer ${force} N: $((SECONDS - start)) s" >> "$HERE/timing.txt"
 done
-python experiments/table2/report.py
+python "$HERE/report.py"

@@ -49,9 +49,10 @@ def cell_row(cfg: DictConfig, policy: str, category: str, resistance: str, resul
     summary = result.summary()
     row = {
         "gripper": cfg.gripper.name, "contact": cfg.contact.name,
-        "collision": cfg.collision.source, "split": effective_split(cfg.asset),
-        "policy": policy, "category": category,
-        "resistance": resistance, "episodes": summary["episodes"],
+        "collision": cfg.collision.source, "scene": cfg.scene.name,
+        "kind": cfg.asset.kind or "all", "split": effective_split(cfg.asset),
+        "policy": policy, "category": category, "resistance": resistance,
+        "episodes": summary["episodes"],
         **{o: summary[o] for o in OUTCOMES},
         **{f"strategy_{s}": summary.get("strategies", {}).get(s, 0.0) for s in STRATEGIES},
     }  # fmt: skip
@@ -76,7 +77,8 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
     first = rows[0]
     lines = [
         f"# Table 2: gripper={first['gripper']}, contact={first['contact']}, "
-        f"collision={first['collision']}, split={first.get('split', 'all')}",
+        f"collision={first['collision']}, scene={first.get('scene', 'freestanding')}, "
+        f"kind={first.get('kind', 'drawer')}, split={first.get('split', 'all')}",
         "",
     ]
     cells = {(r["policy"], r["category"], r["resistance"]): r for r in rows}

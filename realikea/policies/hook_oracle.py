@@ -61,8 +61,8 @@ class OracleParams:
     pull_distance: float = 0.4  # m of the pull along a drawer's opening direction
     pull_angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)
     pull_wrist: float = 0.3  # share of a hinged front's turn the wrist follows
-    wedge_pitch: float = 0.55  # rad the hand is tipped down for a knob's wedge (task limit 0.6)
-    lip_pitch: float = 0.25  # rad tipped up for a lip's wedge (the wrist's limit at drawer height)
+    wedge_pitch: float = 0.55  # rad the hand is tipped down for a knob's wedge
+    lip_pitch: float = 0.25  # rad tipped up for a lip's wedge
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
     wedge_preload: float = 0.001  # m the pad's face is set into the edge before the pull
     loop_body_clearance: float = 0.002  # m between a closed finger body and the bar
