@@ -24,7 +24,7 @@ def main(cfg: DictConfig) -> None:
     checkpoint = train(cfg, hydra_cfg.runtime.output_dir)
     print(f"final checkpoint: {checkpoint}")
     if cfg.train.get("eval_after"):
-        from realikea.training.eval_after import evaluate_run
+        from realikea.eval.runs import evaluate_run
 
         seconds = time.perf_counter() - begin
         overrides = list(hydra_cfg.overrides.task)

@@ -5,15 +5,14 @@ from __future__ import annotations
 import argparse
 import sys
 
+from realikea.assets import commands as asset_commands
 from realikea.errors import RealIkeaError
+from realikea.eval import commands as eval_commands
+from realikea.fidelity import commands as fidelity_commands
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Assemble the argument parser from each group's `register` function."""
-    from realikea.assets import commands as asset_commands
-    from realikea.eval import commands as eval_commands
-    from realikea.fidelity import commands as fidelity_commands
-
     parser = argparse.ArgumentParser(prog="realikea", description=__doc__)
     groups = parser.add_subparsers(dest="group", required=True, metavar="{assets,fidelity,eval}")
     asset_commands.register(groups.add_parser("assets", help="build and inspect the asset library"))

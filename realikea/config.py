@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from hydra import compose, initialize_config_dir
 from hydra.core.global_hydra import GlobalHydra
 from hydra.errors import HydraException
 from omegaconf import DictConfig, OmegaConf
 from omegaconf.errors import OmegaConfBaseException
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.errors import RealIkeaError
+from realikea.files import REPO_ROOT
 
 CONF_DIR = REPO_ROOT / "conf"
 
@@ -29,9 +27,3 @@ def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
     finally:
         GlobalHydra.instance().clear()
     return cfg
-
-
-def repo_path(value: str | Path) -> Path:
-    """A config path: absolute as given, relative to the repository root otherwise."""
-    path = Path(value).expanduser()
-    return path if path.is_absolute() else REPO_ROOT / path

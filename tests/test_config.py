@@ -7,10 +7,10 @@ import sys
 
 import pytest
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.files import REPO_ROOT
 
 
 @pytest.mark.parametrize(

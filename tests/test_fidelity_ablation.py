@@ -17,10 +17,10 @@ from hydra.core.global_hydra import GlobalHydra
 from hydra.core.override_parser.overrides_parser import OverridesParser
 from omegaconf import OmegaConf
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.config import CONF_DIR, load_config
+from realikea.eval.runs import eval_overrides
+from realikea.files import REPO_ROOT
 from realikea.tasks.contacts import STRATEGIES
-from realikea.training.eval_after import eval_overrides
 
 TINY = [
     "asset=two_point",

@@ -9,9 +9,9 @@ import sys
 
 import pytest
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.cli import main
 from realikea.eval.protocol import EvalResult
+from realikea.files import REPO_ROOT
 from realikea.tasks.contacts import STRATEGIES
 
 SMALL = [

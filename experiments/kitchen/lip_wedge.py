@@ -17,7 +17,8 @@ import argparse
 import csv
 import math
 
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
+from realikea.files import repo_path
 from realikea.policies.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
 from realikea.policies.hook_oracle import PAD_THICKNESS, OracleParams
 

@@ -16,7 +16,7 @@ from omegaconf import DictConfig
 from tqdm import tqdm
 
 from realikea.assets import shapes
-from realikea.assets.cache import atomic_write_text, cached_entry, link_or_copy, staging_dir
+from realikea.assets.cache import cached_entry, link_or_copy
 from realikea.assets.catalog import Configuration, Part, content_hash
 from realikea.assets.workflow import (
     assembly,
@@ -27,6 +27,7 @@ from realikea.assets.workflow import (
     segmentation,
 )
 from realikea.errors import RealIkeaError
+from realikea.files import atomic_write_text, staging_dir
 from realikea.spawn import spawn_context
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write

@@ -12,8 +12,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from realikea.assets.shapes import FAMILIES
 from realikea.assets.split import SPLIT_FILE, check_split_value, read_split, suggest
 from realikea.errors import RealIkeaError
+from realikea.files import REPO_ROOT
 
 CATEGORIES = ("knob", "two_point", "finger_pull")
 FRICTION_CLASSES = {
@@ -24,7 +26,6 @@ FRICTION_CLASSES = {
     "rubberized": 0.9,
 }
 BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
-REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def catalog_dir() -> Path:
@@ -220,8 +221,6 @@ def _check_common(row_id: str, category: str, friction: str, path: Path) -> None
 
 
 def _part_from_row(row: dict[str, str], path: Path) -> Part:
-    from realikea.assets.shapes import FAMILIES
-
     pid, category, family, friction = (
         row[k].strip() for k in ("id", "category", "family", "friction")
     )
@@ -259,3 +258,12 @@ def _base_from_row(row: dict[str, str], path: Path) -> Base:
         )
     }  # fmt: skip
     return Base(bid, kind, joint, hinge=hinge, **numbers)
+
+
+def effective_split(asset, catalog=None) -> str:
+    """The split an `asset` config draws from: asset.split (all for configs written before the
+    split existed), or, with asset.part pinned, that part's own split."""
+    if asset.get("part"):
+        catalog = catalog or Catalog.load()
+        return catalog.split_of(str(asset.part))
+    return str(asset.get("split", "all"))

@@ -8,9 +8,19 @@ from pathlib import Path
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, catalog_dir
-from realikea.assets.split import override_key
-from realikea.config import load_config, repo_path
+from realikea.assets.gallery import render_gallery
+from realikea.assets.importer import import_part
+from realikea.assets.split import (
+    SEED,
+    SPLIT_FILE,
+    main_dimension,
+    make_split,
+    override_key,
+    write_split,
+)
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 
 OVERRIDES_HELP = "Hydra overrides, e.g. resistance=high asset=knob workflow.coacd.threshold=0.03"
 
@@ -125,8 +135,6 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_gallery(args: argparse.Namespace) -> int:
-    from realikea.assets.gallery import render_gallery
-
     cfg = load_config(args.overrides)
     path = render_gallery(cfg, args.out, n_configs=args.configs)
     print(f"gallery: {path}")
@@ -134,8 +142,6 @@ def run_gallery(args: argparse.Namespace) -> int:
 
 
 def run_import(args: argparse.Namespace) -> int:
-    from realikea.assets.importer import import_part
-
     cfg = load_config(args.overrides)
     if args.scale <= 0:
         raise RealIkeaError(f"--scale must be positive, got {args.scale}")
@@ -147,8 +153,6 @@ def run_import(args: argparse.Namespace) -> int:
 
 def run_split(args: argparse.Namespace) -> int:
     """Print the generated split per family; with --write, write it to assets/split.csv."""
-    from realikea.assets.split import SEED, SPLIT_FILE, main_dimension, make_split, write_split
-
     catalog = Catalog.load()
     split = make_split(catalog.parts.values(), SEED if args.seed is None else args.seed)
     families: dict[str, list] = {}

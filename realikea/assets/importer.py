@@ -1,6 +1,6 @@
 """Bring your own part: a scanned or CAD mesh joins the catalog through the same workflow.
 
-The mesh must be in the part frame convention (DESIGN: +z away from the furniture front, long
+The mesh must be in the part frame convention (the catalog's: +z away from the furniture front, long
 axis along x); it is moved so its lowest point lies on the mounting plane z = 0 and its
 footprint is centred on the mounting point, then checked by running steps 1-4 on it.
 """
@@ -17,9 +17,9 @@ import trimesh
 from omegaconf import DictConfig
 
 from realikea.assets.build import WorkflowSettings, write_part_meshes
-from realikea.assets.cache import staging_dir
 from realikea.assets.catalog import CATEGORIES, FRICTION_CLASSES, Catalog, Part, catalog_dir
 from realikea.errors import RealIkeaError
+from realikea.files import staging_dir
 
 MIN_EXTENT, MAX_EXTENT = 0.005, 0.5  # m: plausible size range of furniture hardware
 MESH_SUFFIXES = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")

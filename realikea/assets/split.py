@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from realikea.errors import RealIkeaError
+from realikea.files import atomic_write_text
 
 if TYPE_CHECKING:
     from realikea.assets.catalog import Part
@@ -95,8 +96,6 @@ def split_text(split: dict[str, str]) -> str:
 
 
 def write_split(path: Path, split: dict[str, str]) -> Path:
-    from realikea.assets.cache import atomic_write_text
-
     atomic_write_text(Path(path), split_text(split))
     return Path(path)
 
@@ -159,14 +158,3 @@ def with_default_split(overrides: Sequence[str], split: str = "test") -> list[st
     if any(override_key(o) == "asset.split" for o in overrides):
         return list(overrides)
     return [*overrides, f"asset.split={split}"]
-
-
-def effective_split(asset, catalog=None) -> str:
-    """The split an `asset` config draws from: asset.split (all for configs written before the
-    split existed), or, with asset.part pinned, that part's own split."""
-    if asset.get("part"):
-        from realikea.assets.catalog import Catalog
-
-        catalog = catalog or Catalog.load()
-        return catalog.split_of(str(asset.part))
-    return str(asset.get("split", "all"))

@@ -15,10 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.assets.cache import atomic_path, atomic_write_text
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.protocol import run_episodes
+from realikea.eval.setup import effective_config
 from realikea.eval.table import to_csv
+from realikea.files import atomic_path, atomic_write_text, repo_path
+from realikea.pool.env_pool import EnvPool
 
 MODES = ("smooth", "normal", "high")
 
@@ -71,10 +74,7 @@ def plot(rows: list[dict], best: dict, path: Path) -> None:
 
 def run_sweep(overrides: list[str]) -> int:
     """Evaluate every checkpoint of `run=DIR`; write DIR/sweep/{sweep.csv, sweep.md, sweep.png}."""
-    from realikea.eval.commands import effective_config
-    from realikea.eval.protocol import run_episodes
-    from realikea.policies.checkpoint import CheckpointPolicy, run_config
-    from realikea.pool.env_pool import EnvPool
+    from realikea.policies.checkpoint import CheckpointPolicy, run_config  # torch, on use
 
     runs = [o.split("=", 1)[1] for o in overrides if o.startswith("run=")]
     if len(runs) != 1:

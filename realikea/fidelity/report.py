@@ -40,8 +40,8 @@ from realikea.assets.build import (
     part_key,
 )
 from realikea.assets.catalog import CATEGORIES, Catalog, Part
-from realikea.config import repo_path
 from realikea.errors import RealIkeaError
+from realikea.fidelity import plots
 from realikea.fidelity.meshes import load_pair
 from realikea.fidelity.metric import (
     DEFAULT_SAMPLES,
@@ -49,6 +49,7 @@ from realikea.fidelity.metric import (
     point_surface_distance,
     surface_deviation,
 )
+from realikea.files import repo_path
 from realikea.spawn import spawn_context
 
 SOURCES = ("coacd", "hull")
@@ -391,8 +392,6 @@ def run_report(
     heat_triangles: int = HEAT_TRIANGLES,
 ) -> ReportResult:
     """Measure every selected part with both collision sources and write the report folder."""
-    from realikea.fidelity import plots
-
     if samples < 1:
         raise RealIkeaError(f"--samples must be at least 1, got {samples}")
     if parts_per_category < 0:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -10,11 +11,25 @@ from omegaconf import DictConfig, OmegaConf
 from rsl_rl.models import MLPModel
 from tensordict import TensorDict
 
-from realikea.config import repo_path
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
-from realikea.training.train import check_layout
+
+LAYOUT_FILE = "observation_layout.json"  # a run's observation layout, beside its checkpoints
+
+
+def check_layout(checkpoint: Path) -> None:
+    """Refuse a checkpoint trained on another observation layout."""
+    layout_file = Path(checkpoint).parent / LAYOUT_FILE
+    if not layout_file.is_file():
+        raise RealIkeaError(f"{checkpoint}: no {LAYOUT_FILE} beside it; not a Real-IKEA run")
+    stored = [tuple(item) for item in json.loads(layout_file.read_text())]
+    if stored != list(observations.LAYOUT):
+        raise RealIkeaError(
+            f"{checkpoint}: trained on observation layout {stored}, this code uses "
+            f"{list(observations.LAYOUT)}"
+        )
 
 
 def run_config(checkpoint: Path) -> DictConfig:

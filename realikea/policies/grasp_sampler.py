@@ -55,6 +55,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from realikea.assets.catalog import Catalog
 from realikea.errors import RealIkeaError
 from realikea.policies.scripted import (
     OPEN,
@@ -460,8 +461,6 @@ class GraspSampler(WaypointPolicy):
         self.grasp_file = Path(grasps) if grasps is not None else None
         self.file_grasps = None
         if self.grasp_file is not None:
-            from realikea.assets.catalog import Catalog
-
             self.file_grasps = load_grasp_file(self.grasp_file, set(Catalog.load().parts))
         self.last_grasp: Grasp | None = None  # the grasp of the latest plan
 

@@ -22,8 +22,8 @@ import sys
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.config import repo_path
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 from realikea.policies.demonstration import Demonstration, load_demonstration
 from realikea.policies.per_env import PerEnvPolicy
 from realikea.tasks.open_task import ACTION_SIZE

@@ -44,6 +44,7 @@ import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
+from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
 from realikea.spawn import spawn_context
 from realikea.tasks import observations
@@ -419,8 +420,6 @@ class EnvPool:
     @classmethod
     def from_config(cls, cfg: DictConfig, **kwargs) -> EnvPool:
         """`cfg.env.num_envs` configurations of the `asset` group (built if missing)."""
-        from realikea.assets.library import training_configurations
-
         num_envs = int(cfg.env.num_envs)
         if num_envs < 1:
             raise RealIkeaError(f"env.num_envs={num_envs}: use 1 or more")

@@ -18,7 +18,7 @@ from functools import cached_property
 
 @dataclass(frozen=True)
 class RewardParams:
-    """Constants of the appendix (DESIGN.md) plus the auxiliary cost weights."""
+    """The paper's appendix constants (stages, weights) plus the auxiliary cost weights."""
 
     eps: float = 0.01
     w_open1: float = 2.0

@@ -12,11 +12,10 @@ from rsl_rl.runners import OnPolicyRunner
 
 from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
+from realikea.policies.checkpoint import LAYOUT_FILE, check_layout
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks import observations
-
-LAYOUT_FILE = "observation_layout.json"
 
 
 def runner_config(cfg: DictConfig) -> dict:
@@ -47,19 +46,6 @@ def runner_config(cfg: DictConfig) -> dict:
         },
         "check_for_nan": True,
     }
-
-
-def check_layout(checkpoint: Path) -> None:
-    """Refuse a checkpoint trained on another observation layout."""
-    layout_file = Path(checkpoint).parent / LAYOUT_FILE
-    if not layout_file.is_file():
-        raise RealIkeaError(f"{checkpoint}: no {LAYOUT_FILE} beside it; not a Real-IKEA run")
-    stored = [tuple(item) for item in json.loads(layout_file.read_text())]
-    if stored != list(observations.LAYOUT):
-        raise RealIkeaError(
-            f"{checkpoint}: trained on observation layout {stored}, this code uses "
-            f"{list(observations.LAYOUT)}"
-        )
 
 
 def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:

@@ -22,7 +22,13 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.cache import atomic_write_text
+from realikea.assets.catalog import effective_split
+from realikea.assets.split import check_split_value
+from realikea.errors import RealIkeaError
+from realikea.eval.setup import eval_setup, evaluate
+from realikea.eval.sweep import checkpoints
+from realikea.eval.table import CONTACT_STATS, cell_row
+from realikea.files import atomic_write_text, repo_path
 
 EVAL_FILE = "eval.json"
 # run overrides the evaluation replaces or that only concern training
@@ -36,8 +42,6 @@ def _key(override: str) -> str:
 
 def eval_split(spec: DictConfig, default: str = DEFAULT_SPLIT) -> str:
     """The split an evaluation spec draws from: spec.split, else `default`."""
-    from realikea.assets.split import check_split_value
-
     return check_split_value(spec.get("split") or default)
 
 
@@ -83,10 +87,6 @@ def evaluate_run(
 ) -> dict:
     """Evaluate `checkpoint` under every mode of `spec.resistances` on the parts of
     `spec.split` (else `default_split`); write and return eval.json."""
-    from realikea.assets.split import effective_split
-    from realikea.eval.commands import eval_setup, evaluate
-    from realikea.eval.table import CONTACT_STATS, cell_row
-
     run_dir = Path(run_dir)
     report: dict = {
         "checkpoint": Path(checkpoint).name,
@@ -138,10 +138,6 @@ def rerun(overrides: list[str]) -> int:
     """`realikea eval rerun run=DIR ...`: evaluate each run's last checkpoint again with the
     run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept);
     on the run's split (`rerun_split`) unless its spec names one."""
-    from realikea.config import repo_path
-    from realikea.errors import RealIkeaError
-    from realikea.eval.sweep import checkpoints
-
     runs = [repo_path(o.split("=", 1)[1]) for o in overrides if o.startswith("run=")]
     unknown = [o for o in overrides if not o.startswith("run=")]
     if not runs or unknown:
