@@ -8,10 +8,14 @@ import subprocess
 import sys
 
 import pytest
+import torch
 
 from realikea.cli import main
+from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.files import REPO_ROOT
+from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 
 SMALL = [
@@ -46,7 +50,33 @@ def test_run_directory_holds_config_checkpoints_and_metrics(run):
     assert sorted(p.name for p in run_dir.glob("model_*.pt")) == ["model_0.pt", "model_1.pt"]
     header = (run_dir / "metrics.csv").read_text().splitlines()[0]
     assert header == "iteration,tag,value"
-    assert (run_dir / "observation_layout.json").is_file()
+    saved = torch.load(run_dir / "model_1.pt", weights_only=False)
+    assert saved["infos"]["observation_layout"] == [list(t) for t in observations.LAYOUT]
+    assert saved["infos"]["config"]["agent"]["max_iterations"] == 2
+
+
+def test_a_checkpoint_evaluates_without_its_run_folder(run, tmp_path, capsys):
+    run_dir, library = run
+    alone = tmp_path / "model_1.pt"  # no .hydra/ and no observation_layout.json beside it
+    shutil.copy(run_dir / "model_1.pt", alone)
+    args = [*SMALL, f"paths.library={library}", "episodes=1"]
+    assert main(["eval", f"policy.path={alone}", *args]) == 0
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["episodes"] == 1
+
+
+def test_an_old_checkpoint_loads_its_layout_and_config_from_the_run_folder(run, tmp_path):
+    run_dir, _ = run
+    old = tmp_path / "run"
+    shutil.copytree(run_dir, old)
+    saved = torch.load(old / "model_1.pt", weights_only=False)
+    saved["infos"] = None  # as rsl-rl saved them before checkpoints carried infos
+    torch.save(saved, old / "model_1.pt")
+    (old / "observation_layout.json").write_text(json.dumps(observations.LAYOUT))
+    policy = CheckpointPolicy(old / "model_1.pt")
+    assert policy.run_cfg.agent.max_iterations == 2
+    (old / "observation_layout.json").unlink()
+    with pytest.raises(RealIkeaError, match="carries no observation layout"):
+        CheckpointPolicy(old / "model_1.pt")
 
 
 def test_eval_prints_fractions_and_a_json_line(run, capsys):
@@ -98,7 +128,9 @@ def test_checkpoint_from_another_observation_layout(run, tmp_path, capsys):
     run_dir, _ = run
     other = tmp_path / "run"
     shutil.copytree(run_dir, other)
-    (other / "observation_layout.json").write_text(json.dumps([["tcp_pos", 3], ["opening", 1]]))
+    saved = torch.load(other / "model_1.pt", weights_only=False)
+    saved["infos"]["observation_layout"] = [["tcp_pos", 3], ["opening", 1]]
+    torch.save(saved, other / "model_1.pt")
     assert main(["eval", f"policy.path={other / 'model_1.pt'}"]) == 2
     assert "trained on observation layout" in capsys.readouterr().err
 
