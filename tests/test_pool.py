@@ -150,6 +150,10 @@ def test_vecenv_contract(paths):
         fractions = sum(log[f"/episode/{x}"].mean() for x in ("fail", "partial", "success"))
         assert fractions == pytest.approx(1.0) and "/episode/opening" in log
         assert log["/pool/worker_restarts"] == 0
+        assert log["/termination/timeout"].tolist() == [1.0, 1.0]
+        assert log["/termination/stagnation"].tolist() == [0.0, 0.0]
+        assert log["/episode_reward/jerk"].tolist() == [0.0, 0.0]  # zero actions: no jerk
+        assert (log["/episode_reward/stage"] > 0).all()
         # past dr.switch_iteration the next episode starts from perturbed poses
         handle = observations.slices()["handle_pos"]
         assert not torch.equal(obs["policy"][:, handle], first[:, handle])

@@ -243,7 +243,7 @@ class _EnvSlice:
         return ended
 
 
-_EPISODE_KEYS = ("outcome", "termination", "opening", *SUMMARY_KEYS)
+_EPISODE_KEYS = ("outcome", "termination", "opening", "reward_terms", *SUMMARY_KEYS)
 
 
 def _worker_main(conn, buffer, num_envs, num_workers, cfg, paths, seeds, env_ids, worker, it, prof):
