@@ -3,7 +3,7 @@
 python train.py collision=hull resistance=high
 python train.py -m collision=coacd,hull resistance=smooth,normal,high
 python train.py -m hydra/launcher=joblib collision=coacd,hull   # runs in parallel locally
-python train.py -m +experiment=fidelity_ablation   # the fidelity ablation (conf/experiment/)
+python train.py -m +experiment=fidelity_ablation   # the ablation (realikea/conf/experiment/)
 """
 
 import time
@@ -13,7 +13,7 @@ from hydra.core.hydra_config import HydraConfig
 from omegaconf import DictConfig
 
 
-@hydra.main(config_path="conf", config_name="config", version_base="1.3")
+@hydra.main(config_path="realikea/conf", config_name="config", version_base="1.3")
 def main(cfg: DictConfig) -> None:
     """Train in this run's Hydra directory (config, checkpoints, metrics.csv, logs), then
     optionally evaluate the last checkpoint (`train.eval_after`: eval.json)."""

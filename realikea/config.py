@@ -9,9 +9,7 @@ from omegaconf import DictConfig, OmegaConf
 from omegaconf.errors import OmegaConfBaseException
 
 from realikea.errors import RealIkeaError
-from realikea.files import REPO_ROOT
-
-CONF_DIR = REPO_ROOT / "conf"
+from realikea.files import CONF_DIR
 
 
 def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:

@@ -1,5 +1,10 @@
-"""Where the repository's files are and how the project writes them: a reader never sees a
-half-written file. The one module every layer may use for paths and writes."""
+"""Where the project's files are and how it writes them (a reader never sees a half-written
+file). The one module every layer may use for paths and writes.
+
+Shipped with the package: its configs (`realikea/conf/`) and the catalog (`realikea/catalog/`).
+Written by it: `outputs/`, `.cache/`, `experiments/` results and imported parts
+(`assets/imported/`), all relative to the workspace: the source checkout the package runs from
+(an editable install), else the current directory (an installed wheel)."""
 
 from __future__ import annotations
 
@@ -9,13 +14,23 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
+PACKAGE_DIR = Path(__file__).resolve().parent
+CONF_DIR = PACKAGE_DIR / "conf"
+CATALOG_DIR = PACKAGE_DIR / "catalog"
+
+
+def _workspace() -> Path:
+    checkout = PACKAGE_DIR.parent
+    return checkout if (checkout / "pyproject.toml").is_file() else Path.cwd()
+
+
+WORKSPACE = _workspace()
 
 
 def repo_path(value: str | Path) -> Path:
-    """A config path: absolute as given, relative to the repository root otherwise."""
+    """A config path: absolute as given, relative to the workspace otherwise."""
     path = Path(value).expanduser()
-    return path if path.is_absolute() else REPO_ROOT / path
+    return path if path.is_absolute() else WORKSPACE / path
 
 
 @contextmanager

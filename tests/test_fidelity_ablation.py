@@ -17,9 +17,9 @@ from hydra.core.global_hydra import GlobalHydra
 from hydra.core.override_parser.overrides_parser import OverridesParser
 from omegaconf import OmegaConf
 
-from realikea.config import CONF_DIR, load_config
+from realikea.config import load_config
 from realikea.eval.runs import eval_overrides
-from realikea.files import REPO_ROOT
+from realikea.files import CONF_DIR, WORKSPACE
 from realikea.tasks.contacts import STRATEGIES
 
 TINY = [
@@ -102,7 +102,7 @@ def sweep(tmp_path_factory):
     args = ["-m", "+experiment=fidelity_ablation", "hydra/launcher=basic", *TINY]
     args += ["collision=hull", f"paths.library={root / 'library'}", f"hydra.sweep.dir={root / 's'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     return root / "s"
@@ -168,7 +168,7 @@ def fake_coacd_run(run, target):
 def report_module():
     """experiments/fidelity_ablation/report.py, a script, loaded as a module."""
     spec = importlib.util.spec_from_file_location(
-        "fidelity_report", REPO_ROOT / "experiments" / "fidelity_ablation" / "report.py"
+        "fidelity_report", WORKSPACE / "experiments" / "fidelity_ablation" / "report.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -225,7 +225,7 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
     ]
     args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 's'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     for collision in ("coacd", "hull"):

@@ -1,5 +1,6 @@
-"""The held-out split (assets/split.csv): stratified, reproducible, applied by `asset.split`,
-defaulting to the test parts in evaluation; and errors that name the bad value or row."""
+"""The held-out split (realikea/catalog/split.csv): stratified, reproducible, applied by
+`asset.split`, defaulting to the test parts in evaluation; and errors that name the bad value or
+row."""
 
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ import torch
 from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
-from realikea.files import REPO_ROOT
+from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
@@ -37,7 +37,7 @@ def run(tmp_path_factory):
     args = [*SMALL, "logger=none", "agent.max_iterations=2", "agent.num_steps_per_env=8"]
     args += [f"paths.library={library}", f"hydra.run.dir={run_dir}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert "final checkpoint" in out.stdout
@@ -142,7 +142,7 @@ def test_resume_continues_from_the_checkpoint(run, tmp_path):
     args += [f"paths.library={library}", f"hydra.run.dir={resumed}"]
     args += [f"train.resume={run_dir / 'model_1.pt'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     # rsl-rl restarts at the checkpoint's iteration (1), not at 0
@@ -158,7 +158,7 @@ def test_joblib_multirun_over_collision_sources(tmp_path):
     args += ["agent.num_steps_per_env=4", "collision=coacd,hull", "hydra/launcher=joblib"]
     args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 'sweep'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", "-m", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", "-m", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert (tmp_path / "sweep" / "0" / "model_0.pt").is_file()

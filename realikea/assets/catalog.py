@@ -15,7 +15,7 @@ from pathlib import Path
 from realikea.assets.shapes import FAMILIES
 from realikea.assets.split import SPLIT_FILE, check_split_value, read_split, suggest
 from realikea.errors import RealIkeaError
-from realikea.files import REPO_ROOT
+from realikea.files import CATALOG_DIR, WORKSPACE
 
 CATEGORIES = ("knob", "two_point", "finger_pull")
 FRICTION_CLASSES = {
@@ -29,8 +29,17 @@ BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
 
 
 def catalog_dir() -> Path:
-    """The catalog folder: `$REALIKEA_CATALOG` if set, else the repository's `assets/`."""
-    return Path(os.environ.get("REALIKEA_CATALOG", REPO_ROOT / "assets"))
+    """The catalog folder (parts.csv, bases.csv, split.csv): `$REALIKEA_CATALOG` if set, else the
+    package's own `realikea/catalog/`."""
+    return Path(os.environ.get("REALIKEA_CATALOG", CATALOG_DIR))
+
+
+def imported_dir(root: Path | None = None) -> Path:
+    """Where imported parts live: `imported/` in an explicit catalog folder (`root` or
+    `$REALIKEA_CATALOG`), else the workspace's `assets/imported/` (user data, not the package's)."""
+    if root is None and "REALIKEA_CATALOG" not in os.environ:
+        return WORKSPACE / "assets" / "imported"
+    return (Path(root) if root is not None else catalog_dir()) / "imported"
 
 
 def content_hash(payload: object) -> str:
@@ -112,10 +121,12 @@ class Catalog:
 
     @classmethod
     def load(cls, root: Path | None = None) -> Catalog:
-        """Read `parts.csv`, `bases.csv` and every imported part under `imported/`."""
+        """Read `parts.csv`, `bases.csv` and `split.csv` of `root` (default `catalog_dir()`) and
+        every imported part (`imported_dir(root)`)."""
+        imported = imported_dir(root)
         root = Path(root) if root is not None else catalog_dir()
         parts = [_part_from_row(row, root / "parts.csv") for row in _rows(root / "parts.csv")]
-        parts += [_imported_part(path) for path in sorted(root.glob("imported/*/part.json"))]
+        parts += [_imported_part(path) for path in sorted(imported.glob("*/part.json"))]
         bases = [_base_from_row(row, root / "bases.csv") for row in _rows(root / "bases.csv")]
         split_file = root / SPLIT_FILE
         split = read_split(split_file, parts) if split_file.is_file() else None

@@ -60,10 +60,10 @@ def register(parser: argparse.ArgumentParser) -> None:
 
     split = commands.add_parser(
         "split",
-        help="show the train/test split of the catalog parts (assets/split.csv); "
+        help="show the train/test split of the catalog parts (realikea/catalog/split.csv); "
         "--write regenerates it",
     )
-    split.add_argument("--write", action="store_true", help="write assets/split.csv")
+    split.add_argument("--write", action="store_true", help="write realikea/catalog/split.csv")
     split.add_argument("--seed", type=int, help="generator seed (default: the committed one)")
     split.set_defaults(run=run_split)
 
@@ -152,7 +152,7 @@ def run_import(args: argparse.Namespace) -> int:
 
 
 def run_split(args: argparse.Namespace) -> int:
-    """Print the generated split per family; with --write, write it to assets/split.csv."""
+    """Print the generated split per family; with --write, write it to the catalog's split.csv."""
     catalog = Catalog.load()
     split = make_split(catalog.parts.values(), SEED if args.seed is None else args.seed)
     families: dict[str, list] = {}

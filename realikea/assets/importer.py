@@ -17,7 +17,7 @@ import trimesh
 from omegaconf import DictConfig
 
 from realikea.assets.build import WorkflowSettings, write_part_meshes
-from realikea.assets.catalog import CATEGORIES, FRICTION_CLASSES, Catalog, Part, catalog_dir
+from realikea.assets.catalog import CATEGORIES, FRICTION_CLASSES, Catalog, Part, imported_dir
 from realikea.errors import RealIkeaError
 from realikea.files import staging_dir
 
@@ -71,21 +71,20 @@ def import_part(
     cfg: DictConfig,
     root: Path | None = None,
 ) -> Part:
-    """Validate, format and register a user mesh under `<catalog>/imported/<id>/`."""
+    """Validate, format and register a user mesh under `imported_dir(root)/<id>/`."""
     if category not in CATEGORIES:
         raise RealIkeaError(f"unknown category {category!r}; choose one of {', '.join(CATEGORIES)}")
     if friction not in FRICTION_CLASSES:
         raise RealIkeaError(
             f"unknown friction class {friction!r}; one of {', '.join(FRICTION_CLASSES)}"
         )
-    root = Path(root) if root is not None else catalog_dir()
     part_id = part_id or re.sub(r"[^a-z0-9_]+", "_", path.stem.lower()).strip("_")
     if not re.fullmatch(r"[a-z0-9_]+", part_id or ""):
         raise RealIkeaError(f"part id {part_id!r} must be lowercase letters, digits and _")
     if part_id in Catalog.load(root).parts:
         raise RealIkeaError(f"part id {part_id!r} already exists in the catalog; pass --id NAME")
     mesh = to_part_frame(load_user_mesh(path, scale))
-    with staging_dir(root / "imported" / part_id) as folder:
+    with staging_dir(imported_dir(root) / part_id) as folder:
         mesh.export(folder / "mesh.ply")
         meta = {
             "id": part_id,

@@ -1,9 +1,10 @@
 """The held-out split of the catalog: which parts policies train on and which they are tested on.
 
-`assets/split.csv` (columns `part,split`, split = train or test) names every row of
-`assets/parts.csv`. Parts it does not name, i.e. parts imported under `assets/imported/`, belong
-to `test`: no policy is trained on them. The `asset` group draws from one split
-(`asset.split=train|test|all`, default train); `asset.part=ID` pins a part whatever its split.
+`realikea/catalog/split.csv` (columns `part,split`, split = train or test) names every row of
+`realikea/catalog/parts.csv`. Parts it does not name, i.e. parts imported under
+`assets/imported/`, belong to `test`: no policy is trained on them. The `asset` group draws
+from one split (`asset.split=train|test|all`, default train); `asset.part=ID` pins a part
+whatever its split.
 
 The file is generated, not hand-picked: `realikea assets split --write` (or
 `write_split(catalog_dir() / SPLIT_FILE, make_split(parts))`) regenerates it from `parts.csv`

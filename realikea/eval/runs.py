@@ -9,7 +9,7 @@ policy=checkpoint policy.path=<checkpoint> resistance=<mode> episodes=<n> [dr=..
 [env.seed=...]` (the command is stored beside its result, so any entry can be re-run by hand).
 
 The split (`train.eval_after.split`: train, test or all) defaults to `test`, the parts held out
-of training (assets/split.csv). A run made before the split existed (its config has no
+of training (realikea/catalog/split.csv). A run made before the split existed (its config has no
 asset.split) is re-evaluated on `all`, as it was then.
 """
 

@@ -85,7 +85,7 @@ _KEEP = 64  # stop checking once this many grasps passed
 
 @dataclass(frozen=True)
 class SamplerParams:
-    """The sampler's settings (conf/policy/grasp_sampler.yaml)."""
+    """The sampler's settings (realikea/conf/policy/grasp_sampler.yaml)."""
 
     samples: int = 4000  # surface points tried as the first contact
     clearance_points: int = 12000  # surface points the hand's boxes are checked against

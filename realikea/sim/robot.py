@@ -158,7 +158,7 @@ class GripperModel:
 
     @classmethod
     def from_config(cls, cfg: DictConfig) -> GripperModel:
-        """Build from a `conf/gripper/*.yaml` group: drive `force_limited` or `servo`."""
+        """Build from a `realikea/conf/gripper/*.yaml` group: drive `force_limited` or `servo`."""
         common = dict(
             name=str(cfg.name),
             stroke=float(cfg.stroke),

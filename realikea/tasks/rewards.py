@@ -1,6 +1,6 @@
 """The task's reward as named terms: the paper's four gated stages with monotone baselines, plus
 jerk and IK-failure costs. The reward of a control step is the weighted sum of `REWARD_TERMS` in
-their order (weights: `conf/task/open.yaml` reward); the task logs each term's episode sum.
+their order (weights: `realikea/conf/task/open.yaml` reward); the task logs each term's episode sum.
 
 Stage 1 approaches a pre-grasp target t1 with the jaws open, stage 2 refines towards t2,
 stage 3 closes the jaws, stage 4 rewards opening. Each stage adds the maximum of the ones

@@ -1,5 +1,5 @@
 """The task's early endings as named predicates over the episode state; the first that holds
-names the episode's termination (parameters: `conf/task/open.yaml` terminations)."""
+names the episode's termination (parameters: `realikea/conf/task/open.yaml` terminations)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from typing import Any
 
 @dataclass(frozen=True)
 class Terminations:
-    """When an episode ends early (conf/task/open.yaml: terminations)."""
+    """When an episode ends early (realikea/conf/task/open.yaml: terminations)."""
 
     ik_failure_steps: int  # consecutive infeasible IK steps
     stagnation_steps: int  # consecutive steps of commanded motion without TCP motion
