@@ -205,3 +205,15 @@ def test_table_refuses_checkpoints_and_unknown_policies(capsys):
     assert "realikea eval sweep" in capsys.readouterr().err
     assert main(["eval", "policy=nonsense"]) == 2
     assert "nonsense" in capsys.readouterr().err
+
+
+def test_realikea_train_composes_what_train_py_composes():
+    args = ["--cfg", "job", "asset=knob", "collision=hull", "resistance=high"]
+    outputs = [
+        subprocess.run(
+            [sys.executable, *entry, *args], cwd=WORKSPACE, capture_output=True, text=True
+        )
+        for entry in (["train.py"], ["-m", "realikea.cli", "train"])
+    ]
+    assert all(out.returncode == 0 for out in outputs), [o.stderr[-2000:] for o in outputs]
+    assert outputs[0].stdout == outputs[1].stdout and "category: knob" in outputs[0].stdout
