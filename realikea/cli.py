@@ -34,6 +34,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["train"]:  # Hydra parses its own command line
         return training_commands.run_train(argv[1:])
+    if argv[:1] == ["eval"]:
+        argv = ["eval", *eval_commands.with_default_command(argv[1:])]
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

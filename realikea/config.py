@@ -12,6 +12,16 @@ from realikea.errors import RealIkeaError
 from realikea.files import CONF_DIR
 
 
+def override_key(override: str) -> str:
+    """The key a Hydra override sets: `+a.b=1` -> `a.b`, `~a` -> `a`, `group=x` -> `group`."""
+    return override.lstrip("+~").split("=", 1)[0]
+
+
+def overrides_set(overrides, key: str) -> bool:
+    """Whether any override sets `key` itself or a key under it (`asset` covers `asset.kind`)."""
+    return any(k == key or k.startswith(key + ".") for k in map(override_key, overrides))
+
+
 def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
     """The root config with Hydra-style `group=value` / `key=value` overrides applied."""
     GlobalHydra.instance().clear()

@@ -135,7 +135,7 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
     old = json.loads((run / "eval.json").read_text())
     stale = {"checkpoint": "x", "train_seconds": old["train_seconds"], "modes": {}}
     (run / "eval.json").write_text(json.dumps(stale))  # as if from an older evaluation
-    assert main(["eval", "rerun", f"run={run}"]) == 0
+    assert main(["eval", "rerun", str(run)]) == 0
     new = json.loads((run / "eval.json").read_text())
     assert new["checkpoint"] == "model_1.pt" and new["train_seconds"] == old["train_seconds"]
     assert list(new["modes"]) == ["smooth", "normal", "high"]
@@ -144,7 +144,7 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
         assert entry["command"] == same
         assert entry["strategies"] == old["modes"][mode]["strategies"]
         assert entry["success"] == old["modes"][mode]["success"]
-    assert main(["eval", "rerun", f"run={tmp_path}"]) == 2  # not a training run
+    assert main(["eval", "rerun", str(tmp_path)]) == 2  # not a training run
     assert "not a training run" in capsys.readouterr().err
 
 

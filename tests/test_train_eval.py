@@ -168,7 +168,7 @@ def test_joblib_multirun_over_collision_sources(tmp_path):
 def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     run_dir, library = run
     args = [f"paths.library={library}", "episodes=2", "env.num_workers=0"]
-    assert main(["eval", "sweep", f"run={run_dir}", *args]) == 0
+    assert main(["eval", "sweep", str(run_dir), *args]) == 0
     out = capsys.readouterr().out
     rows = (run_dir / "sweep" / "sweep.csv").read_text().splitlines()
     assert rows[0].startswith("iteration,success_smooth,return_smooth,")
@@ -178,7 +178,7 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):
-    assert main(["eval", "sweep", f"run={tmp_path}"]) == 2
+    assert main(["eval", "sweep", str(tmp_path)]) == 2
     assert "no checkpoints" in capsys.readouterr().err
 
 

@@ -4,6 +4,7 @@ outputs there."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import venv
@@ -12,10 +13,14 @@ from realikea.files import WORKSPACE
 
 
 def test_an_installed_wheel_builds_a_configuration_from_any_directory(tmp_path):
-    wheels = tmp_path / "wheels"
+    source, wheels = tmp_path / "source", tmp_path / "wheels"  # built off the checkout
+    shutil.copytree(WORKSPACE / "realikea", source / "realikea",
+                    ignore=shutil.ignore_patterns("__pycache__"))  # fmt: skip
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(WORKSPACE / name, source / name)
     subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation",
-         "-w", str(wheels), str(WORKSPACE)],
+         "-w", str(wheels), str(source)],
         check=True, capture_output=True,
     )  # fmt: skip
     (wheel,) = wheels.glob("realikea-*.whl")

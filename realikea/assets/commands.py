@@ -15,10 +15,9 @@ from realikea.assets.split import (
     SPLIT_FILE,
     main_dimension,
     make_split,
-    override_key,
     write_split,
 )
-from realikea.config import load_config
+from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
@@ -78,7 +77,7 @@ def run_build(args: argparse.Namespace) -> int:
     else:
         asset = cfg.asset
         # every part of the category unless the command line names a split
-        named = any(override_key(o) == "asset.split" for o in args.overrides)
+        named = overrides_set(args.overrides, "asset.split")
         split = asset.split if named else "all"
         configs = list(
             catalog.configurations(

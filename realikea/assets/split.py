@@ -20,6 +20,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from realikea.config import overrides_set
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
 
@@ -148,14 +149,10 @@ def suggest(name: str, options: Iterable[str]) -> str:
     return f"; did you mean {', '.join(close)}?" if close else ""
 
 
-def override_key(override: str) -> str:
-    return override.lstrip("+~").split("=", 1)[0]
-
-
 def with_default_split(overrides: Sequence[str], split: str = "test") -> list[str]:
     """`overrides` plus `asset.split=<split>` unless they set asset.split themselves (the
     evaluation commands default to the held-out parts)."""
     check_split_value(split)
-    if any(override_key(o) == "asset.split" for o in overrides):
+    if overrides_set(overrides, "asset.split"):
         return list(overrides)
     return [*overrides, f"asset.split={split}"]

@@ -1,7 +1,7 @@
-"""`realikea eval [table|sweep|rerun] [overrides]`: a policy over episodes, Fail/Partial/Success
-and a JSON line; `table` runs the Table 2 grid (realikea/eval/table.py), `sweep run=DIR` every
-checkpoint of a run (realikea/eval/sweep.py), `rerun run=DIR ...` a run's end-of-training
-evaluation again (realikea/eval/runs.py)."""
+"""`realikea eval [run|table|sweep|rerun] ...`: `run` (the default: `realikea eval OVERRIDES`)
+evaluates a policy over episodes (Fail/Partial/Success and a JSON line), `table` the Table 2 grid
+(realikea/eval/table.py), `sweep DIR` every checkpoint of a run (realikea/eval/sweep.py),
+`rerun DIR ...` a run's end-of-training evaluation again (realikea/eval/runs.py)."""
 
 from __future__ import annotations
 
@@ -19,27 +19,40 @@ from realikea.eval.table import run_table
 from realikea.eval.video import record_strategies
 from realikea.tasks.open_task import OpenTask
 
+SUBCOMMANDS = ("run", "table", "sweep", "rerun")
+OVERRIDES_HELP = "Hydra overrides, e.g. asset=two_point resistance=high episodes=50"
+
+
+def with_default_command(argv: list[str]) -> list[str]:
+    """`eval OVERRIDES` is `eval run OVERRIDES` (an eval command line as typed, without `eval`)."""
+    if argv[:1] and (argv[0] in SUBCOMMANDS or argv[0].startswith("-")):
+        return argv
+    return ["run", *argv]
+
 
 def register(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "overrides",
-        nargs="*",
-        help="optionally `table`, `sweep` or `rerun` first, then Hydra overrides, e.g. "
-        "policy=checkpoint policy.path=RUN/model_500.pt asset=two_point resistance=high "
-        "episodes=50 video=true",
+    """Add the eval sub-commands to `parser`."""
+    commands = parser.add_subparsers(
+        dest="command", required=True, metavar="{run,table,sweep,rerun}"
     )
-    parser.set_defaults(run=dispatch)
-
-
-def dispatch(args: argparse.Namespace) -> int:
-    """`eval table ...`, `eval sweep ...`, `eval rerun ...` or a plain `eval ...`."""
-    if args.overrides and args.overrides[0] == "table":
-        return run_table(args.overrides[1:])
-    if args.overrides and args.overrides[0] == "sweep":
-        return run_sweep(args.overrides[1:])
-    if args.overrides and args.overrides[0] == "rerun":
-        return rerun(args.overrides[1:])
-    return run_eval(args)
+    run = commands.add_parser(
+        "run", help="a policy over episodes (the default command: `realikea eval OVERRIDES`)"
+    )
+    run.add_argument(
+        "overrides", nargs="*", help="Hydra overrides, e.g. policy=checkpoint "
+        "policy.path=RUN/model_500.pt asset=two_point resistance=high episodes=50 video=true",
+    )  # fmt: skip
+    run.set_defaults(run=run_eval)
+    table = commands.add_parser("table", help="the paper's Table 2: policies x categories x modes")
+    table.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    table.set_defaults(run=lambda args: run_table(args.overrides))
+    sweep = commands.add_parser("sweep", help="every checkpoint of a run under the three modes")
+    sweep.add_argument("run_dir", type=Path, help="a training run's directory")
+    sweep.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    sweep.set_defaults(run=lambda args: run_sweep(args.run_dir, args.overrides))
+    again = commands.add_parser("rerun", help="repeat runs' end-of-training evaluation")
+    again.add_argument("run_dirs", nargs="+", type=Path, help="training run directories")
+    again.set_defaults(run=lambda args: rerun(args.run_dirs))
 
 
 def run_eval(args: argparse.Namespace) -> int:

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.split import override_key, with_default_split
-from realikea.config import load_config
+from realikea.assets.split import with_default_split
+from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult, run_episodes
 from realikea.policies.registry import make_policy
@@ -20,7 +20,7 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     """The eval config with the run's robot, gripper, contact and task unless overridden."""
     merged = OmegaConf.to_container(cfg, resolve=True)
     for group in RUN_GROUPS:
-        if group in run_cfg and not any(o.lstrip("+~").startswith(group) for o in overrides):
+        if group in run_cfg and not overrides_set(overrides, group):
             merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
     # the strategy classifier belongs to the evaluation, not to the run
     merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
@@ -39,9 +39,7 @@ def eval_setup(overrides: list[str]):
     split unless the overrides name one (`eval_overrides_with_split`)."""
     cfg = load_config(eval_overrides_with_split(overrides))
     policy = make_policy(cfg)
-    if hasattr(policy, "run_interactive") and not any(
-        override_key(o) == "asset.split" for o in overrides
-    ):
+    if hasattr(policy, "run_interactive") and not overrides_set(overrides, "asset.split"):
         cfg.asset.split = "train"  # teleop records demonstrations: training data, not a test
     if hasattr(policy, "run_cfg"):
         cfg = effective_config(cfg, policy.run_cfg, overrides)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.config import load_config
+from realikea.config import load_config, override_key
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import run_episodes
 from realikea.eval.setup import effective_config
@@ -72,18 +72,15 @@ def plot(rows: list[dict], best: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def run_sweep(overrides: list[str]) -> int:
-    """Evaluate every checkpoint of `run=DIR`; write DIR/sweep/{sweep.csv, sweep.md, sweep.png}."""
+def run_sweep(run: Path, overrides: list[str]) -> int:
+    """Evaluate every checkpoint of the training run `run`; write RUN/sweep/{sweep.csv, sweep.md,
+    sweep.png}."""
     from realikea.policies.checkpoint import CheckpointPolicy, run_config  # torch, on use
 
-    runs = [o.split("=", 1)[1] for o in overrides if o.startswith("run=")]
-    if len(runs) != 1:
-        raise RealIkeaError("realikea eval sweep needs exactly one run=DIR (a training run)")
-    run = repo_path(runs[0])
-    rest = [o for o in overrides if not o.startswith("run=")]
+    run, rest = repo_path(run), list(overrides)
     found = checkpoints(run)
     run_cfg = run_config(found[0][1])
-    mine = {o.lstrip("+~").split("=")[0].split(".")[0] for o in rest}
+    mine = {override_key(o).split(".")[0] for o in rest}
     inherited = []
     if "collision" not in mine:
         inherited.append(f"collision={run_cfg.collision.source}")
