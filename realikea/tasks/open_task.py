@@ -32,7 +32,13 @@ from realikea.sim.scene import (
     reset_home,
 )
 from realikea.tasks import observations
-from realikea.tasks.contacts import ClassifierParams, ContactLog, ContactMonitor, subtree_geoms
+from realikea.tasks.contacts import (
+    SUMMARY_KEYS,
+    ClassifierParams,
+    ContactLog,
+    ContactMonitor,
+    subtree_geoms,
+)
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
@@ -61,7 +67,6 @@ class EpisodeState:
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
     stagnant: int = 0
-    episode_return: float = 0.0
     term_sums: dict[str, float] = field(default_factory=dict)  # reward term -> episode sum
     contacts: ContactLog = field(default_factory=ContactLog)
 
@@ -77,6 +82,11 @@ class StepResult:
 
 class OpenTask:
     """The robot opening one configuration's front (drawer, door or flap)."""
+
+    observation_size = observations.SIZE
+    action_size = ACTION_SIZE
+    # what an episode's record in the env pool keeps of the final info
+    episode_keys = ("outcome", "termination", "opening", "reward_terms", *SUMMARY_KEYS)
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         task = cfg.task
@@ -295,15 +305,12 @@ class OpenTask:
         s.prev_prev_action, s.prev_action = s.prev_action, a
         if diverged:
             reward = 0.0
-        s.episode_return += reward
         ended = termination(s, term, diverged)
         terminated = ended is not None
         truncated = not terminated and s.steps >= self.horizon
         info = {"opening": opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
         if terminated or truncated:
             info["outcome"] = str(outcome(opening, self.joint_type, self.outcome_thresholds))
-            info["episode_return"] = s.episode_return
-            info["episode_steps"] = s.steps
             info["termination"] = ended or TIMEOUT
             info["reward_terms"] = dict(s.term_sums)
             if self.contact_monitor is not None:
