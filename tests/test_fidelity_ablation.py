@@ -20,6 +20,7 @@ from omegaconf import OmegaConf
 from realikea.config import load_config
 from realikea.eval.runs import eval_overrides
 from realikea.files import CONF_DIR, WORKSPACE
+from realikea.reports import fidelity_ablation
 from realikea.tasks.contacts import STRATEGIES
 
 TINY = [
@@ -165,8 +166,8 @@ def fake_coacd_run(run, target):
     (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
-def report_module():
-    """experiments/fidelity_ablation/report.py, a script, loaded as a module."""
+def script():
+    """experiments/fidelity_ablation/report.py, the thin script over realikea.reports."""
     spec = importlib.util.spec_from_file_location(
         "fidelity_report", WORKSPACE / "experiments" / "fidelity_ablation" / "report.py"
     )
@@ -180,9 +181,8 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     shutil.copytree(sweep, root)
     run = root / "hull_smooth_two_point_franka_hand_s0"
     fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
-    module = report_module()
     out = tmp_path / "report"
-    assert module.main([str(root), "--out", str(out)]) == 0
+    assert script().main([str(root), "--out", str(out)]) == 0
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
@@ -198,7 +198,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
 
 
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
-    module = report_module()
+    module = fidelity_ablation
     its = list(range(100))
     values = [0.0] * 40 + [1.0] * 60
     run = {"metrics": {"/episode/success": (its, values)}}

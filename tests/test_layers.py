@@ -21,6 +21,7 @@ LAYERS = (
     ("pool",),
     ("policies",),
     ("eval", "training"),
+    ("reports",),
     ("cli",),
 )
 RANK = {name: i for i, layer in enumerate(LAYERS) for name in layer}
