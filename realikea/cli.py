@@ -22,7 +22,7 @@ def build_parser() -> argparse.ArgumentParser:
     fidelity_commands.register(
         groups.add_parser("fidelity", help="collision-mesh fidelity metric and reports")
     )
-    training_commands.register(groups.add_parser("train", help=training_commands.HELP))
+    groups.add_parser("train", help=training_commands.HELP)  # `main` hands it to Hydra
     eval_commands.register(
         groups.add_parser("eval", help="evaluate a policy: Fail/Partial/Success")
     )

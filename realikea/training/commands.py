@@ -5,17 +5,11 @@ Everything after `train` goes to Hydra unparsed (its flags, such as `-m`, `--cfg
 
 from __future__ import annotations
 
-import argparse
 import sys
 
 from realikea.training.main import main
 
 HELP = "train PPO: Hydra overrides and flags, as for python train.py (see realikea train --help)"
-
-
-def register(parser: argparse.ArgumentParser) -> None:
-    """Listed in `realikea --help`; the arguments themselves are Hydra's (`run_train`)."""
-    parser.set_defaults(run=lambda args: run_train([]))
 
 
 def run_train(arguments: list[str]) -> int:
