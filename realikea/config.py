@@ -22,12 +22,13 @@ def overrides_set(overrides, key: str) -> bool:
     return any(k == key or k.startswith(key + ".") for k in map(override_key, overrides))
 
 
-def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
-    """The root config with Hydra-style `group=value` / `key=value` overrides applied."""
+def load_config(overrides: list[str] | tuple[str, ...] = (), name: str = "config") -> DictConfig:
+    """A primary config (`config`: the shared one; `eval`: evaluation's) with Hydra-style
+    `group=value` / `key=value` overrides applied."""
     GlobalHydra.instance().clear()
     try:
         with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
-            cfg = compose("config", overrides=list(overrides))
+            cfg = compose(name, overrides=list(overrides))
         OmegaConf.resolve(cfg)
     except (HydraException, OmegaConfBaseException) as err:
         message = str(err).split("\nConfig search path")[0].strip()

@@ -37,7 +37,7 @@ def eval_setup(overrides: list[str]):
     """(cfg, policy) of `realikea eval OVERRIDES`: the composed config with a checkpoint's own
     run groups (`effective_config`) or a policy's own configuration, contacts logged; the test
     split unless the overrides name one (`eval_overrides_with_split`)."""
-    cfg = load_config(eval_overrides_with_split(overrides))
+    cfg = load_config(eval_overrides_with_split(overrides), "eval")
     policy = make_policy(cfg)
     if hasattr(policy, "run_interactive") and not overrides_set(overrides, "asset.split"):
         cfg.asset.split = "train"  # teleop records demonstrations: training data, not a test

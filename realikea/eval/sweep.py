@@ -90,7 +90,7 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
         inherited += [f"asset.{k}={asset[k]}" for k in ("part", "base", "kind") if asset.get(k)]
     results: dict[tuple[int, str], tuple[float, float]] = {}
     for mode in MODES:
-        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"])
+        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"], "eval")
         cfg = effective_config(cfg, run_cfg, rest)
         cfg.task.contacts.log = False
         episodes = int(cfg.episodes)

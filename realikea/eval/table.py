@@ -41,7 +41,8 @@ def cell_config(overrides: list[str], policy: str, category: str, resistance: st
         with_default_split(
             [*overrides, f"policy={policy}", f"asset={category}", f"resistance={resistance}"],
             "test",
-        )
+        ),
+        "eval",
     )
     cfg.asset.kind = cfg.table.kind
     cfg.task.contacts.log = True
@@ -124,7 +125,7 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
 
 def run_table(overrides: list[str]) -> int:
     """Evaluate the grid of `cfg.table` and write `table2.csv` and `table2.md` to `table.out`."""
-    cfg = load_config(overrides)
+    cfg = load_config(overrides, "eval")
     table = cfg.table
     policies, categories, resistances = (
         list(table[k]) for k in ("policies", "categories", "resistances")
