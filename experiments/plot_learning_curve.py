@@ -6,8 +6,6 @@ python experiments/plot_learning_curve.py RUN_DIR [--out FILE]
 from __future__ import annotations
 
 import argparse
-import csv
-from collections import defaultdict
 from pathlib import Path
 
 import matplotlib
@@ -15,16 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read_metrics(run_dir: Path) -> dict[str, tuple[list[int], list[float]]]:
-    """tag -> (iterations, values)."""
-    series: dict[str, tuple[list[int], list[float]]] = defaultdict(lambda: ([], []))
-    with (run_dir / "metrics.csv").open() as f:
-        for row in csv.DictReader(f):
-            its, values = series[row["tag"]]
-            its.append(int(row["iteration"]))
-            values.append(float(row["value"]))
-    return series
+from realikea.reports.metrics import read_metrics  # noqa: E402
 
 
 def main() -> None:

@@ -1,7 +1,7 @@
 """Reach study: the TCP pitch range the Panda's joint limits allow at a handle, by height and
 distance from the arm's base, for the level hand (drawers, flap) and the hand rolled 90 deg
-(doors). The numbers behind the kitchen's robot placement (conf/scene/kitchen.yaml: robot) and the
-hand's roll choice on hinged fronts (realikea/tasks/open_task.py: _hand_roll).
+(doors). The numbers behind the kitchen's robot placement (realikea/conf/scene/kitchen.yaml:
+robot) and the hand's roll choice on hinged fronts (realikea/tasks/open_task.py: _hand_roll).
 
 Method: from the home posture, walk the TCP to the point in 1 cm IK steps at pitch 0 (as a policy
 would), then raise or lower the pitch in 0.04 rad steps (the task's action scale) while the IK

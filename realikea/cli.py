@@ -5,21 +5,24 @@ from __future__ import annotations
 import argparse
 import sys
 
+from realikea.assets import commands as asset_commands
 from realikea.errors import RealIkeaError
+from realikea.eval import commands as eval_commands
+from realikea.fidelity import commands as fidelity_commands
+from realikea.training import commands as training_commands
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Assemble the argument parser from each group's `register` function."""
-    from realikea.assets import commands as asset_commands
-    from realikea.eval import commands as eval_commands
-    from realikea.fidelity import commands as fidelity_commands
-
     parser = argparse.ArgumentParser(prog="realikea", description=__doc__)
-    groups = parser.add_subparsers(dest="group", required=True, metavar="{assets,fidelity,eval}")
+    groups = parser.add_subparsers(
+        dest="group", required=True, metavar="{assets,fidelity,train,eval}"
+    )
     asset_commands.register(groups.add_parser("assets", help="build and inspect the asset library"))
     fidelity_commands.register(
         groups.add_parser("fidelity", help="collision-mesh fidelity metric and reports")
     )
+    groups.add_parser("train", help=training_commands.HELP)  # `main` hands it to Hydra
     eval_commands.register(
         groups.add_parser("eval", help="evaluate a policy: Fail/Partial/Success")
     )
@@ -28,6 +31,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; user errors print one clear line and exit 2."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["train"]:  # Hydra parses its own command line
+        return training_commands.run_train(argv[1:])
+    if argv[:1] == ["eval"]:
+        argv = ["eval", *eval_commands.with_default_command(argv[1:])]
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -2,26 +2,33 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from hydra import compose, initialize_config_dir
 from hydra.core.global_hydra import GlobalHydra
 from hydra.errors import HydraException
 from omegaconf import DictConfig, OmegaConf
 from omegaconf.errors import OmegaConfBaseException
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.errors import RealIkeaError
+from realikea.files import CONF_DIR
 
-CONF_DIR = REPO_ROOT / "conf"
+
+def override_key(override: str) -> str:
+    """The key a Hydra override sets: `+a.b=1` -> `a.b`, `~a` -> `a`, `group=x` -> `group`."""
+    return override.lstrip("+~").split("=", 1)[0]
 
 
-def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
-    """The root config with Hydra-style `group=value` / `key=value` overrides applied."""
+def overrides_set(overrides, key: str) -> bool:
+    """Whether any override sets `key` itself or a key under it (`asset` covers `asset.kind`)."""
+    return any(k == key or k.startswith(key + ".") for k in map(override_key, overrides))
+
+
+def load_config(overrides: list[str] | tuple[str, ...] = (), name: str = "config") -> DictConfig:
+    """A primary config (`config`: the shared one; `eval`: evaluation's) with Hydra-style
+    `group=value` / `key=value` overrides applied."""
     GlobalHydra.instance().clear()
     try:
         with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
-            cfg = compose("config", overrides=list(overrides))
+            cfg = compose(name, overrides=list(overrides))
         OmegaConf.resolve(cfg)
     except (HydraException, OmegaConfBaseException) as err:
         message = str(err).split("\nConfig search path")[0].strip()
@@ -29,9 +36,3 @@ def load_config(overrides: list[str] | tuple[str, ...] = ()) -> DictConfig:
     finally:
         GlobalHydra.instance().clear()
     return cfg
-
-
-def repo_path(value: str | Path) -> Path:
-    """A config path: absolute as given, relative to the repository root otherwise."""
-    path = Path(value).expanduser()
-    return path if path.is_absolute() else REPO_ROOT / path

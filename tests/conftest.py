@@ -6,7 +6,8 @@ import pytest
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
+from realikea.files import repo_path
 
 SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
 

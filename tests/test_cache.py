@@ -10,7 +10,8 @@ import time
 
 import pytest
 
-from realikea.assets.cache import atomic_write_text, cached_entry, staging_dir
+from realikea.assets.cache import cached_entry
+from realikea.files import atomic_write_text, staging_dir
 
 
 def test_cached_entry_builds_once(tmp_path):

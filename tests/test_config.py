@@ -7,10 +7,10 @@ import sys
 
 import pytest
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.files import WORKSPACE
 
 
 @pytest.mark.parametrize(
@@ -55,6 +55,6 @@ def test_train_py_composes_the_config():
         capture_output=True,
         text=True,
         check=True,
-        cwd=REPO_ROOT,
+        cwd=WORKSPACE,
     ).stdout
     assert "source: hull" in out and "frictionloss: 20.0" in out

@@ -17,10 +17,11 @@ from hydra.core.global_hydra import GlobalHydra
 from hydra.core.override_parser.overrides_parser import OverridesParser
 from omegaconf import OmegaConf
 
-from realikea.assets.catalog import REPO_ROOT
-from realikea.config import CONF_DIR, load_config
+from realikea.config import load_config
+from realikea.eval.runs import eval_overrides
+from realikea.files import CONF_DIR, WORKSPACE
+from realikea.reports import fidelity_ablation
 from realikea.tasks.contacts import STRATEGIES
-from realikea.training.eval_after import eval_overrides
 
 TINY = [
     "asset=two_point",
@@ -102,7 +103,7 @@ def sweep(tmp_path_factory):
     args = ["-m", "+experiment=fidelity_ablation", "hydra/launcher=basic", *TINY]
     args += ["collision=hull", f"paths.library={root / 'library'}", f"hydra.sweep.dir={root / 's'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     return root / "s"
@@ -135,7 +136,7 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
     old = json.loads((run / "eval.json").read_text())
     stale = {"checkpoint": "x", "train_seconds": old["train_seconds"], "modes": {}}
     (run / "eval.json").write_text(json.dumps(stale))  # as if from an older evaluation
-    assert main(["eval", "rerun", f"run={run}"]) == 0
+    assert main(["eval", "rerun", str(run)]) == 0
     new = json.loads((run / "eval.json").read_text())
     assert new["checkpoint"] == "model_1.pt" and new["train_seconds"] == old["train_seconds"]
     assert list(new["modes"]) == ["smooth", "normal", "high"]
@@ -144,7 +145,7 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
         assert entry["command"] == same
         assert entry["strategies"] == old["modes"][mode]["strategies"]
         assert entry["success"] == old["modes"][mode]["success"]
-    assert main(["eval", "rerun", f"run={tmp_path}"]) == 2  # not a training run
+    assert main(["eval", "rerun", str(tmp_path)]) == 2  # not a training run
     assert "not a training run" in capsys.readouterr().err
 
 
@@ -165,10 +166,10 @@ def fake_coacd_run(run, target):
     (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
-def report_module():
-    """experiments/fidelity_ablation/report.py, a script, loaded as a module."""
+def script():
+    """experiments/fidelity_ablation/report.py, the thin script over realikea.reports."""
     spec = importlib.util.spec_from_file_location(
-        "fidelity_report", REPO_ROOT / "experiments" / "fidelity_ablation" / "report.py"
+        "fidelity_report", WORKSPACE / "experiments" / "fidelity_ablation" / "report.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -180,9 +181,8 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     shutil.copytree(sweep, root)
     run = root / "hull_smooth_two_point_franka_hand_s0"
     fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
-    module = report_module()
     out = tmp_path / "report"
-    assert module.main([str(root), "--out", str(out)]) == 0
+    assert script().main([str(root), "--out", str(out)]) == 0
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
@@ -198,7 +198,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
 
 
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
-    module = report_module()
+    module = fidelity_ablation
     its = list(range(100))
     values = [0.0] * 40 + [1.0] * 60
     run = {"metrics": {"/episode/success": (its, values)}}
@@ -225,7 +225,7 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
     ]
     args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 's'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     for collision in ("coacd", "hull"):

@@ -9,7 +9,8 @@ import pytest
 
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.fidelity import report
+from realikea.fidelity import commands, heatmap, measure, report
+from realikea.files import atomic_path
 
 # one part of each category, cheap to decompose (and usually in the project's cache already)
 PARTS = ("knob_round_20", "tp_round_bar_64", "fp_edge_64")
@@ -60,15 +61,15 @@ def test_parts_csv_rows_and_columns(small_report):
     with (out / "parts.csv").open(newline="") as f:
         reader = csv.DictReader(f)
         rows = list(reader)
-    assert tuple(reader.fieldnames) == report.COLUMNS
+    assert tuple(reader.fieldnames) == measure.COLUMNS
     assert sorted(r["id"] for r in rows) == sorted(PARTS)
     for row in rows:
         assert int(row["hull_pieces"]) == 1
         assert int(row["coacd_pieces"]) >= 1
         assert int(row["visual_faces"]) > 0 and int(row["visual_vertices"]) > 0
-        for src in report.SOURCES:
-            for d in report.DIRECTIONS:
-                mean, median, p90, mx = (float(row[f"{src}_{d}_{s}_m"]) for s in report.STATS)
+        for src in measure.SOURCES:
+            for d in measure.DIRECTIONS:
+                mean, median, p90, mx = (float(row[f"{src}_{d}_{s}_m"]) for s in measure.STATS)
                 assert 0.0 <= median <= p90 <= mx and 0.0 <= mean <= mx
                 assert mx < 0.05  # metres: nothing is 5 cm off on a part this size
 
@@ -99,8 +100,8 @@ def test_interrupted_write_leaves_no_file(tmp_path):
         tmp.write_bytes(b"half a PNG")
         raise KeyboardInterrupt
 
-    with pytest.raises(KeyboardInterrupt):
-        report._atomic_save(tmp_path / "plot.png", crash)
+    with pytest.raises(KeyboardInterrupt), atomic_path(tmp_path / "plot.png") as tmp:
+        crash(tmp)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -108,7 +109,7 @@ def test_split_triangles_keeps_area_and_bounds_edges():
     tris = np.array(
         [[[0, 0, 0], [0.1, 0, 0], [0, 0.002, 0]], [[0, 0, 0], [0, 0, 0.01], [0, 1e-3, 0]]]
     )
-    split = report.split_triangles(tris, max_edge=0.004)
+    split = heatmap.split_triangles(tris, max_edge=0.004)
     edges = np.linalg.norm(split[:, [1, 2, 0]] - split, axis=2)
     assert edges.max() <= 0.004
 
@@ -117,8 +118,8 @@ def test_split_triangles_keeps_area_and_bounds_edges():
 
     assert area(split) == pytest.approx(area(tris), rel=1e-12)
     assert len(split) < 400  # midpoint subdivision would need 4^5 = 1024 for the sliver alone
-    assert report.split_triangles(tris, max_edge=0.004, limit=10) is None
-    assert len(report.split_within(tris, 0.0001, budget=40)) <= 40
+    assert heatmap.split_triangles(tris, max_edge=0.004, limit=10) is None
+    assert len(heatmap.split_within(tris, 0.0001, budget=40)) <= 40
 
 
 def test_heatmap_parts_pick_the_typical_and_the_worst():
@@ -131,12 +132,12 @@ def test_heatmap_parts_pick_the_typical_and_the_worst():
         }
         for i in range(9)
     ]
-    picks = report.heatmap_parts(rows, 2)["knob"]
+    picks = heatmap.heatmap_parts(rows, 2)["knob"]
     assert [r["id"] for r, _ in picks] == ["p4", "p8"]
     assert picks[0][1] == "typical, rank 5/9" and picks[1][1] == "worst CoACD, rank 9/9"
-    assert [r["id"] for r, _ in report.heatmap_parts(rows, 1)["knob"]] == ["p4"]
-    assert report.heatmap_parts(rows, 0) == {}
-    assert len(report.heatmap_parts(rows, 20)["knob"]) == 9
+    assert [r["id"] for r, _ in heatmap.heatmap_parts(rows, 1)["knob"]] == ["p4"]
+    assert heatmap.heatmap_parts(rows, 0) == {}
+    assert len(heatmap.heatmap_parts(rows, 20)["knob"]) == 9
 
 
 def test_cli_wires_the_options(monkeypatch, tmp_path, capsys):
@@ -148,7 +149,7 @@ def test_cli_wires_the_options(monkeypatch, tmp_path, capsys):
         seen.update(kwargs, category=cfg.asset.category)
         return report.ReportResult(tmp_path, [], [tmp_path / "parts.csv"], 0.1, "headline")
 
-    monkeypatch.setattr(report, "run_report", fake)
+    monkeypatch.setattr(commands, "write_report", fake)
     argv = ["fidelity", "report", "--out", str(tmp_path), "--samples", "500", "--seed", "3"]
     argv += ["--parts-per-category", "1", "--part", "knob_round_20", "--part", "fp_edge_64"]
     assert main([*argv, "asset=knob"]) == 0

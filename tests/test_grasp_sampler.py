@@ -14,13 +14,13 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import run_episodes
-from realikea.policies.grasp_sampler import (
-    GraspSampler,
+from realikea.policies.grasp_files import save_grasp_file
+from realikea.policies.grasp_sampler import GraspSampler
+from realikea.policies.grasp_sampling import (
     SamplerParams,
     reachable_pitch,
     reference_rotation,
     sample_grasps,
-    save_grasp_file,
 )
 from realikea.policies.registry import make_policy
 from realikea.pool.env_pool import EnvPool

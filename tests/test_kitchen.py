@@ -11,7 +11,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.sim.scene import FRONT_BODY, FRONT_JOINT, HANDLE_SITE, build_scene, reset_home
 
-OPENED = {"slide": 0.20, "hinge": 0.785}  # the success thresholds of conf/task/open.yaml
+OPENED = {"slide": 0.20, "hinge": 0.785}  # the success thresholds of realikea/conf/task/open.yaml
 
 
 def _kitchen_geoms(model) -> list[int]:

@@ -12,8 +12,9 @@ import pytest
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 from realikea.sim.ik import (
     VELOCITY_LIMIT,
     IKController,

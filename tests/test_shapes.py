@@ -1,4 +1,4 @@
-"""Procedural part generators and the 83-part catalog (assets/parts.csv)."""
+"""Procedural part generators and the 83-part catalog (realikea/catalog/parts.csv)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from shapely.geometry import Polygon
 from realikea.assets.shapes import FAMILIES, GENERATOR_VERSION, part_mesh
 from realikea.errors import RealIkeaError
 
-CATALOG = Path(__file__).resolve().parents[1] / "assets" / "parts.csv"
+CATALOG = Path(__file__).resolve().parents[1] / "realikea" / "catalog" / "parts.csv"
 FRICTIONS = {"polished_metal", "brushed_metal", "plastic", "wood", "rubberized"}
 MAX_EXTENTS = (0.34, 0.08, 0.045)
 CC_SYSTEM = {0.064, 0.096, 0.128, 0.160, 0.192, 0.224, 0.256, 0.320}

@@ -1,5 +1,6 @@
-"""The held-out split (assets/split.csv): stratified, reproducible, applied by `asset.split`,
-defaulting to the test parts in evaluation; and errors that name the bad value or row."""
+"""The held-out split (realikea/catalog/split.csv): stratified, reproducible, applied by
+`asset.split`, defaulting to the test parts in evaluation; and errors that name the bad value or
+row."""
 
 from __future__ import annotations
 
@@ -10,11 +11,10 @@ from collections import Counter, defaultdict
 import pytest
 from omegaconf import OmegaConf
 
-from realikea.assets.catalog import Catalog, catalog_dir
+from realikea.assets.catalog import Catalog, catalog_dir, effective_split
 from realikea.assets.split import (
     SEED,
     SPLIT_FILE,
-    effective_split,
     make_split,
     read_split,
     split_text,
@@ -22,7 +22,7 @@ from realikea.assets.split import (
 )
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.training.eval_after import eval_overrides, rerun_split
+from realikea.eval.runs import eval_overrides, rerun_split
 
 
 def test_committed_split_is_stratified_and_covers_the_catalog(catalog):
@@ -158,7 +158,7 @@ def test_read_split_accepts_the_committed_file(catalog):
 
 
 def test_evaluation_defaults_to_the_test_split():
-    from realikea.eval.commands import eval_overrides_with_split, eval_setup
+    from realikea.eval.setup import eval_overrides_with_split, eval_setup
     from realikea.eval.table import cell_config
 
     assert eval_overrides_with_split(["asset=knob"]) == ["asset=knob", "asset.split=test"]

@@ -10,6 +10,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.tasks import observations
 from realikea.tasks.open_task import OpenTask
+from realikea.tasks.rewards import REWARD_TERMS
 
 PIN = ["asset=two_point", "asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20"]
 
@@ -84,3 +85,29 @@ def test_commanded_motion_moves_the_tcp(drawer):
         result = task.step(np.array([0.0, 0.0, 0.0, 1.0, 1.0]))  # up 1 cm per step
     assert result.obs[tcp][2] - obs[tcp][2] == pytest.approx(0.10, abs=0.02)
     assert result.info["ik_ok"]
+
+
+def test_observation_terms_have_their_declared_sizes():
+    v = observations.ObservationInputs(
+        [0.1, 0.2, 0.3], np.eye(3).tolist(), [0.4, 0.5, 0.6], [0.0, 0.0, 0.0],
+        0.01, 0.0, 0.5, False, [0.0] * 5, 2,
+    )  # fmt: skip
+    for name, size, term in observations.TERMS:
+        assert len(term(v)) == size, name
+    assert observations.observation(v).shape == (observations.SIZE,)
+
+
+def test_reward_terms_sum_to_the_episode_return(drawer):
+    cfg, mjcf = drawer
+    task = OpenTask(cfg, mjcf, seed=1)
+    task.reset()
+    rng = np.random.default_rng(0)
+    result = task.step(rng.uniform(-1, 1, 5))
+    rewards = [result.reward]
+    while not (result.terminated or result.truncated):
+        result = task.step(rng.uniform(-1, 1, 5))
+        rewards.append(result.reward)
+    terms = result.info["reward_terms"]
+    assert set(terms) == set(REWARD_TERMS)
+    assert sum(terms.values()) == pytest.approx(sum(rewards))
+    assert terms["jerk"] < 0  # random actions are jerky

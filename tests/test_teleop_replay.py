@@ -146,7 +146,7 @@ def test_demonstration_file_holds_what_replay_needs(demo_file):
 
 
 def _replay_config(policy, library, extra=()):
-    cfg = load_config(["policy=replay", f"paths.library={library}", *extra])
+    cfg = load_config(["policy=replay", f"paths.library={library}", *extra], "eval")
     cfg = policy.configure(cfg, ["policy=replay", *extra])
     cfg.task.contacts.log = True
     return cfg

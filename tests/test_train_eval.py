@@ -8,10 +8,14 @@ import subprocess
 import sys
 
 import pytest
+import torch
 
-from realikea.assets.catalog import REPO_ROOT
 from realikea.cli import main
+from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
+from realikea.files import WORKSPACE
+from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 
 SMALL = [
@@ -33,7 +37,7 @@ def run(tmp_path_factory):
     args = [*SMALL, "logger=none", "agent.max_iterations=2", "agent.num_steps_per_env=8"]
     args += [f"paths.library={library}", f"hydra.run.dir={run_dir}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert "final checkpoint" in out.stdout
@@ -46,7 +50,33 @@ def test_run_directory_holds_config_checkpoints_and_metrics(run):
     assert sorted(p.name for p in run_dir.glob("model_*.pt")) == ["model_0.pt", "model_1.pt"]
     header = (run_dir / "metrics.csv").read_text().splitlines()[0]
     assert header == "iteration,tag,value"
-    assert (run_dir / "observation_layout.json").is_file()
+    saved = torch.load(run_dir / "model_1.pt", weights_only=False)
+    assert saved["infos"]["observation_layout"] == [list(t) for t in observations.LAYOUT]
+    assert saved["infos"]["config"]["agent"]["max_iterations"] == 2
+
+
+def test_a_checkpoint_evaluates_without_its_run_folder(run, tmp_path, capsys):
+    run_dir, library = run
+    alone = tmp_path / "model_1.pt"  # no .hydra/ and no observation_layout.json beside it
+    shutil.copy(run_dir / "model_1.pt", alone)
+    args = [*SMALL, f"paths.library={library}", "episodes=1"]
+    assert main(["eval", f"policy.path={alone}", *args]) == 0
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["episodes"] == 1
+
+
+def test_an_old_checkpoint_loads_its_layout_and_config_from_the_run_folder(run, tmp_path):
+    run_dir, _ = run
+    old = tmp_path / "run"
+    shutil.copytree(run_dir, old)
+    saved = torch.load(old / "model_1.pt", weights_only=False)
+    saved["infos"] = None  # as rsl-rl saved them before checkpoints carried infos
+    torch.save(saved, old / "model_1.pt")
+    (old / "observation_layout.json").write_text(json.dumps(observations.LAYOUT))
+    policy = CheckpointPolicy(old / "model_1.pt")
+    assert policy.run_cfg.agent.max_iterations == 2
+    (old / "observation_layout.json").unlink()
+    with pytest.raises(RealIkeaError, match="carries no observation layout"):
+        CheckpointPolicy(old / "model_1.pt")
 
 
 def test_eval_prints_fractions_and_a_json_line(run, capsys):
@@ -98,7 +128,9 @@ def test_checkpoint_from_another_observation_layout(run, tmp_path, capsys):
     run_dir, _ = run
     other = tmp_path / "run"
     shutil.copytree(run_dir, other)
-    (other / "observation_layout.json").write_text(json.dumps([["tcp_pos", 3], ["opening", 1]]))
+    saved = torch.load(other / "model_1.pt", weights_only=False)
+    saved["infos"]["observation_layout"] = [["tcp_pos", 3], ["opening", 1]]
+    torch.save(saved, other / "model_1.pt")
     assert main(["eval", f"policy.path={other / 'model_1.pt'}"]) == 2
     assert "trained on observation layout" in capsys.readouterr().err
 
@@ -110,7 +142,7 @@ def test_resume_continues_from_the_checkpoint(run, tmp_path):
     args += [f"paths.library={library}", f"hydra.run.dir={resumed}"]
     args += [f"train.resume={run_dir / 'model_1.pt'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     # rsl-rl restarts at the checkpoint's iteration (1), not at 0
@@ -126,7 +158,7 @@ def test_joblib_multirun_over_collision_sources(tmp_path):
     args += ["agent.num_steps_per_env=4", "collision=coacd,hull", "hydra/launcher=joblib"]
     args += [f"paths.library={tmp_path / 'library'}", f"hydra.sweep.dir={tmp_path / 'sweep'}"]
     out = subprocess.run(
-        [sys.executable, "train.py", "-m", *args], cwd=REPO_ROOT, capture_output=True, text=True
+        [sys.executable, "train.py", "-m", *args], cwd=WORKSPACE, capture_output=True, text=True
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert (tmp_path / "sweep" / "0" / "model_0.pt").is_file()
@@ -136,7 +168,7 @@ def test_joblib_multirun_over_collision_sources(tmp_path):
 def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     run_dir, library = run
     args = [f"paths.library={library}", "episodes=2", "env.num_workers=0"]
-    assert main(["eval", "sweep", f"run={run_dir}", *args]) == 0
+    assert main(["eval", "sweep", str(run_dir), *args]) == 0
     out = capsys.readouterr().out
     rows = (run_dir / "sweep" / "sweep.csv").read_text().splitlines()
     assert rows[0].startswith("iteration,success_smooth,return_smooth,")
@@ -146,7 +178,7 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):
-    assert main(["eval", "sweep", f"run={tmp_path}"]) == 2
+    assert main(["eval", "sweep", str(tmp_path)]) == 2
     assert "no checkpoints" in capsys.readouterr().err
 
 
@@ -173,3 +205,15 @@ def test_table_refuses_checkpoints_and_unknown_policies(capsys):
     assert "realikea eval sweep" in capsys.readouterr().err
     assert main(["eval", "policy=nonsense"]) == 2
     assert "nonsense" in capsys.readouterr().err
+
+
+def test_realikea_train_composes_what_train_py_composes():
+    args = ["--cfg", "job", "asset=knob", "collision=hull", "resistance=high"]
+    outputs = [
+        subprocess.run(
+            [sys.executable, *entry, *args], cwd=WORKSPACE, capture_output=True, text=True
+        )
+        for entry in (["train.py"], ["-m", "realikea.cli", "train"])
+    ]
+    assert all(out.returncode == 0 for out in outputs), [o.stderr[-2000:] for o in outputs]
+    assert outputs[0].stdout == outputs[1].stdout and "category: knob" in outputs[0].stdout

@@ -17,7 +17,8 @@ import argparse
 import csv
 import math
 
-from realikea.config import load_config, repo_path
+from realikea.config import load_config
+from realikea.files import repo_path
 from realikea.policies.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
 from realikea.policies.hook_oracle import PAD_THICKNESS, OracleParams
 
@@ -34,7 +35,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--split", default="test", choices=("train", "test", "all"))
     args = parser.parse_args()
-    with repo_path("assets/split.csv").open() as f:
+    with repo_path("realikea/catalog/split.csv").open() as f:
         parts = [r["part"] for r in csv.DictReader(f) if args.split in ("all", r["split"])]
     library = repo_path(load_config([]).paths.library)
     clearance = OracleParams().clearance

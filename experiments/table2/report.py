@@ -59,7 +59,7 @@ def cell(rows, policy, category, mode) -> dict | None:
 
 def resistance_pull(mode: str, speed: float = 0.1) -> float:
     """N the front's joint resists with at `speed` m/s: friction loss + damping x speed."""
-    r = OmegaConf.load(REPO / "conf" / "resistance" / f"{mode}.yaml")
+    r = OmegaConf.load(REPO / "realikea" / "conf" / "resistance" / f"{mode}.yaml")
     return float(r.frictionloss) + float(r.damping) * speed
 
 
@@ -173,7 +173,7 @@ def main() -> None:
         "slip ratio | normal angle (deg) |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
     ]
-    mu = 1.0  # pad friction of both gripper presets (conf/gripper/*.yaml: pad_friction)
+    mu = 1.0  # pad friction of both gripper presets (realikea/conf/gripper/*.yaml: pad_friction)
     for name, rows in presets.items():
         for policy in FRICTION_BASED:
             for category in ("knob", "finger_pull"):

@@ -7,7 +7,6 @@ import io
 import json
 import os
 from collections.abc import Iterable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -16,7 +15,7 @@ from omegaconf import DictConfig
 from tqdm import tqdm
 
 from realikea.assets import shapes
-from realikea.assets.cache import atomic_write_text, cached_entry, link_or_copy, staging_dir
+from realikea.assets.cache import cached_entry, link_or_copy
 from realikea.assets.catalog import Configuration, Part, content_hash
 from realikea.assets.workflow import (
     assembly,
@@ -27,7 +26,8 @@ from realikea.assets.workflow import (
     segmentation,
 )
 from realikea.errors import RealIkeaError
-from realikea.spawn import spawn_context
+from realikea.files import atomic_write_text, staging_dir
+from realikea.spawn import process_pool
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
 CONFIG_STEPS_VERSION = "5"  # bump when steps 5-6 change what they write
@@ -240,13 +240,6 @@ class BuildReport:
     index: Path
 
 
-def _pool(workers: int | None) -> ProcessPoolExecutor:
-    """Worker processes started fresh: CoACD's thread pool does not survive a fork."""
-    return ProcessPoolExecutor(
-        max_workers=workers or os.cpu_count() or 1, mp_context=spawn_context()
-    )
-
-
 def build_parts(
     parts: Iterable[Part],
     settings: WorkflowSettings,
@@ -261,7 +254,7 @@ def build_parts(
     missing = [p for p in parts if p.id not in found]
     if not missing:  # no worker processes to start when everything is cached
         return found, 0
-    with _pool(workers) as pool:
+    with process_pool(workers or os.cpu_count() or 1) as pool:
         jobs = pool.map(
             ensure_part, missing, [settings] * len(missing), [cache_root] * len(missing)
         )
@@ -293,7 +286,7 @@ def build_library(
         )
     ]
     if stale:
-        with _pool(workers) as pool:
+        with process_pool(workers or os.cpu_count() or 1) as pool:
             jobs = pool.map(
                 write_configuration,
                 stale,

@@ -12,8 +12,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from realikea.assets.shapes import FAMILIES
 from realikea.assets.split import SPLIT_FILE, check_split_value, read_split, suggest
 from realikea.errors import RealIkeaError
+from realikea.files import CATALOG_DIR, WORKSPACE
 
 CATEGORIES = ("knob", "two_point", "finger_pull")
 FRICTION_CLASSES = {
@@ -24,12 +26,20 @@ FRICTION_CLASSES = {
     "rubberized": 0.9,
 }
 BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
-REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def catalog_dir() -> Path:
-    """The catalog folder: `$REALIKEA_CATALOG` if set, else the repository's `assets/`."""
-    return Path(os.environ.get("REALIKEA_CATALOG", REPO_ROOT / "assets"))
+    """The catalog folder (parts.csv, bases.csv, split.csv): `$REALIKEA_CATALOG` if set, else the
+    package's own `realikea/catalog/`."""
+    return Path(os.environ.get("REALIKEA_CATALOG", CATALOG_DIR))
+
+
+def imported_dir(root: Path | None = None) -> Path:
+    """Where imported parts live: `imported/` in an explicit catalog folder (`root` or
+    `$REALIKEA_CATALOG`), else the workspace's `assets/imported/` (user data, not the package's)."""
+    if root is None and "REALIKEA_CATALOG" not in os.environ:
+        return WORKSPACE / "assets" / "imported"
+    return (Path(root) if root is not None else catalog_dir()) / "imported"
 
 
 def content_hash(payload: object) -> str:
@@ -111,10 +121,12 @@ class Catalog:
 
     @classmethod
     def load(cls, root: Path | None = None) -> Catalog:
-        """Read `parts.csv`, `bases.csv` and every imported part under `imported/`."""
+        """Read `parts.csv`, `bases.csv` and `split.csv` of `root` (default `catalog_dir()`) and
+        every imported part (`imported_dir(root)`)."""
+        imported = imported_dir(root)
         root = Path(root) if root is not None else catalog_dir()
         parts = [_part_from_row(row, root / "parts.csv") for row in _rows(root / "parts.csv")]
-        parts += [_imported_part(path) for path in sorted(root.glob("imported/*/part.json"))]
+        parts += [_imported_part(path) for path in sorted(imported.glob("*/part.json"))]
         bases = [_base_from_row(row, root / "bases.csv") for row in _rows(root / "bases.csv")]
         split_file = root / SPLIT_FILE
         split = read_split(split_file, parts) if split_file.is_file() else None
@@ -220,8 +232,6 @@ def _check_common(row_id: str, category: str, friction: str, path: Path) -> None
 
 
 def _part_from_row(row: dict[str, str], path: Path) -> Part:
-    from realikea.assets.shapes import FAMILIES
-
     pid, category, family, friction = (
         row[k].strip() for k in ("id", "category", "family", "friction")
     )
@@ -259,3 +269,12 @@ def _base_from_row(row: dict[str, str], path: Path) -> Base:
         )
     }  # fmt: skip
     return Base(bid, kind, joint, hinge=hinge, **numbers)
+
+
+def effective_split(asset, catalog=None) -> str:
+    """The split an `asset` config draws from: asset.split (all for configs written before the
+    split existed), or, with asset.part pinned, that part's own split."""
+    if asset.get("part"):
+        catalog = catalog or Catalog.load()
+        return catalog.split_of(str(asset.part))
+    return str(asset.get("split", "all"))

@@ -8,9 +8,18 @@ from pathlib import Path
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, catalog_dir
-from realikea.assets.split import override_key
-from realikea.config import load_config, repo_path
+from realikea.assets.gallery import render_gallery
+from realikea.assets.importer import import_part
+from realikea.assets.split import (
+    SEED,
+    SPLIT_FILE,
+    main_dimension,
+    make_split,
+    write_split,
+)
+from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 
 OVERRIDES_HELP = "Hydra overrides, e.g. resistance=high asset=knob workflow.coacd.threshold=0.03"
 
@@ -50,10 +59,10 @@ def register(parser: argparse.ArgumentParser) -> None:
 
     split = commands.add_parser(
         "split",
-        help="show the train/test split of the catalog parts (assets/split.csv); "
+        help="show the train/test split of the catalog parts (realikea/catalog/split.csv); "
         "--write regenerates it",
     )
-    split.add_argument("--write", action="store_true", help="write assets/split.csv")
+    split.add_argument("--write", action="store_true", help="write realikea/catalog/split.csv")
     split.add_argument("--seed", type=int, help="generator seed (default: the committed one)")
     split.set_defaults(run=run_split)
 
@@ -68,7 +77,7 @@ def run_build(args: argparse.Namespace) -> int:
     else:
         asset = cfg.asset
         # every part of the category unless the command line names a split
-        named = any(override_key(o) == "asset.split" for o in args.overrides)
+        named = overrides_set(args.overrides, "asset.split")
         split = asset.split if named else "all"
         configs = list(
             catalog.configurations(
@@ -125,8 +134,6 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_gallery(args: argparse.Namespace) -> int:
-    from realikea.assets.gallery import render_gallery
-
     cfg = load_config(args.overrides)
     path = render_gallery(cfg, args.out, n_configs=args.configs)
     print(f"gallery: {path}")
@@ -134,8 +141,6 @@ def run_gallery(args: argparse.Namespace) -> int:
 
 
 def run_import(args: argparse.Namespace) -> int:
-    from realikea.assets.importer import import_part
-
     cfg = load_config(args.overrides)
     if args.scale <= 0:
         raise RealIkeaError(f"--scale must be positive, got {args.scale}")
@@ -146,9 +151,7 @@ def run_import(args: argparse.Namespace) -> int:
 
 
 def run_split(args: argparse.Namespace) -> int:
-    """Print the generated split per family; with --write, write it to assets/split.csv."""
-    from realikea.assets.split import SEED, SPLIT_FILE, main_dimension, make_split, write_split
-
+    """Print the generated split per family; with --write, write it to the catalog's split.csv."""
     catalog = Catalog.load()
     split = make_split(catalog.parts.values(), SEED if args.seed is None else args.seed)
     families: dict[str, list] = {}

@@ -12,9 +12,8 @@ from PIL import Image, ImageDraw
 from tqdm import tqdm
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library, ensure_part
-from realikea.assets.cache import atomic_path
 from realikea.assets.catalog import Catalog, Configuration
-from realikea.config import repo_path
+from realikea.files import atomic_path, repo_path
 
 TILE = 200
 COLUMNS = 10

@@ -1,6 +1,6 @@
 """Bring your own part: a scanned or CAD mesh joins the catalog through the same workflow.
 
-The mesh must be in the part frame convention (DESIGN: +z away from the furniture front, long
+The mesh must be in the part frame convention (the catalog's: +z away from the furniture front, long
 axis along x); it is moved so its lowest point lies on the mounting plane z = 0 and its
 footprint is centred on the mounting point, then checked by running steps 1-4 on it.
 """
@@ -17,9 +17,9 @@ import trimesh
 from omegaconf import DictConfig
 
 from realikea.assets.build import WorkflowSettings, write_part_meshes
-from realikea.assets.cache import staging_dir
-from realikea.assets.catalog import CATEGORIES, FRICTION_CLASSES, Catalog, Part, catalog_dir
+from realikea.assets.catalog import CATEGORIES, FRICTION_CLASSES, Catalog, Part, imported_dir
 from realikea.errors import RealIkeaError
+from realikea.files import staging_dir
 
 MIN_EXTENT, MAX_EXTENT = 0.005, 0.5  # m: plausible size range of furniture hardware
 MESH_SUFFIXES = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
@@ -71,21 +71,20 @@ def import_part(
     cfg: DictConfig,
     root: Path | None = None,
 ) -> Part:
-    """Validate, format and register a user mesh under `<catalog>/imported/<id>/`."""
+    """Validate, format and register a user mesh under `imported_dir(root)/<id>/`."""
     if category not in CATEGORIES:
         raise RealIkeaError(f"unknown category {category!r}; choose one of {', '.join(CATEGORIES)}")
     if friction not in FRICTION_CLASSES:
         raise RealIkeaError(
             f"unknown friction class {friction!r}; one of {', '.join(FRICTION_CLASSES)}"
         )
-    root = Path(root) if root is not None else catalog_dir()
     part_id = part_id or re.sub(r"[^a-z0-9_]+", "_", path.stem.lower()).strip("_")
     if not re.fullmatch(r"[a-z0-9_]+", part_id or ""):
         raise RealIkeaError(f"part id {part_id!r} must be lowercase letters, digits and _")
     if part_id in Catalog.load(root).parts:
         raise RealIkeaError(f"part id {part_id!r} already exists in the catalog; pass --id NAME")
     mesh = to_part_frame(load_user_mesh(path, scale))
-    with staging_dir(root / "imported" / part_id) as folder:
+    with staging_dir(imported_dir(root) / part_id) as folder:
         mesh.export(folder / "mesh.ply")
         meta = {
             "id": part_id,

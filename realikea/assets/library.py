@@ -10,8 +10,8 @@ import numpy as np
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog
-from realikea.config import repo_path
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 
 FRONT_JOINT = "front_joint"
 

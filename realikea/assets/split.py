@@ -1,9 +1,10 @@
 """The held-out split of the catalog: which parts policies train on and which they are tested on.
 
-`assets/split.csv` (columns `part,split`, split = train or test) names every row of
-`assets/parts.csv`. Parts it does not name, i.e. parts imported under `assets/imported/`, belong
-to `test`: no policy is trained on them. The `asset` group draws from one split
-(`asset.split=train|test|all`, default train); `asset.part=ID` pins a part whatever its split.
+`realikea/catalog/split.csv` (columns `part,split`, split = train or test) names every row of
+`realikea/catalog/parts.csv`. Parts it does not name, i.e. parts imported under
+`assets/imported/`, belong to `test`: no policy is trained on them. The `asset` group draws
+from one split (`asset.split=train|test|all`, default train); `asset.part=ID` pins a part
+whatever its split.
 
 The file is generated, not hand-picked: `realikea assets split --write` (or
 `write_split(catalog_dir() / SPLIT_FILE, make_split(parts))`) regenerates it from `parts.csv`
@@ -19,7 +20,9 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from realikea.config import overrides_set
 from realikea.errors import RealIkeaError
+from realikea.files import atomic_write_text
 
 if TYPE_CHECKING:
     from realikea.assets.catalog import Part
@@ -95,8 +98,6 @@ def split_text(split: dict[str, str]) -> str:
 
 
 def write_split(path: Path, split: dict[str, str]) -> Path:
-    from realikea.assets.cache import atomic_write_text
-
     atomic_write_text(Path(path), split_text(split))
     return Path(path)
 
@@ -148,25 +149,10 @@ def suggest(name: str, options: Iterable[str]) -> str:
     return f"; did you mean {', '.join(close)}?" if close else ""
 
 
-def override_key(override: str) -> str:
-    return override.lstrip("+~").split("=", 1)[0]
-
-
 def with_default_split(overrides: Sequence[str], split: str = "test") -> list[str]:
     """`overrides` plus `asset.split=<split>` unless they set asset.split themselves (the
     evaluation commands default to the held-out parts)."""
     check_split_value(split)
-    if any(override_key(o) == "asset.split" for o in overrides):
+    if overrides_set(overrides, "asset.split"):
         return list(overrides)
     return [*overrides, f"asset.split={split}"]
-
-
-def effective_split(asset, catalog=None) -> str:
-    """The split an `asset` config draws from: asset.split (all for configs written before the
-    split existed), or, with asset.part pinned, that part's own split."""
-    if asset.get("part"):
-        from realikea.assets.catalog import Catalog
-
-        catalog = catalog or Catalog.load()
-        return catalog.split_of(str(asset.part))
-    return str(asset.get("split", "all"))

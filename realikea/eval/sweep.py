@@ -15,10 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.assets.cache import atomic_path, atomic_write_text
-from realikea.config import load_config, repo_path
+from realikea.config import load_config, override_key
 from realikea.errors import RealIkeaError
+from realikea.eval.protocol import run_episodes
+from realikea.eval.setup import effective_config
 from realikea.eval.table import to_csv
+from realikea.files import atomic_path, atomic_write_text, repo_path
+from realikea.pool.env_pool import EnvPool
 
 MODES = ("smooth", "normal", "high")
 
@@ -69,21 +72,15 @@ def plot(rows: list[dict], best: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def run_sweep(overrides: list[str]) -> int:
-    """Evaluate every checkpoint of `run=DIR`; write DIR/sweep/{sweep.csv, sweep.md, sweep.png}."""
-    from realikea.eval.commands import effective_config
-    from realikea.eval.protocol import run_episodes
-    from realikea.policies.checkpoint import CheckpointPolicy, run_config
-    from realikea.pool.env_pool import EnvPool
+def run_sweep(run: Path, overrides: list[str]) -> int:
+    """Evaluate every checkpoint of the training run `run`; write RUN/sweep/{sweep.csv, sweep.md,
+    sweep.png}."""
+    from realikea.policies.checkpoint import CheckpointPolicy, run_config  # torch, on use
 
-    runs = [o.split("=", 1)[1] for o in overrides if o.startswith("run=")]
-    if len(runs) != 1:
-        raise RealIkeaError("realikea eval sweep needs exactly one run=DIR (a training run)")
-    run = repo_path(runs[0])
-    rest = [o for o in overrides if not o.startswith("run=")]
+    run, rest = repo_path(run), list(overrides)
     found = checkpoints(run)
     run_cfg = run_config(found[0][1])
-    mine = {o.lstrip("+~").split("=")[0].split(".")[0] for o in rest}
+    mine = {override_key(o).split(".")[0] for o in rest}
     inherited = []
     if "collision" not in mine:
         inherited.append(f"collision={run_cfg.collision.source}")
@@ -93,7 +90,7 @@ def run_sweep(overrides: list[str]) -> int:
         inherited += [f"asset.{k}={asset[k]}" for k in ("part", "base", "kind") if asset.get(k)]
     results: dict[tuple[int, str], tuple[float, float]] = {}
     for mode in MODES:
-        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"])
+        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"], "eval")
         cfg = effective_config(cfg, run_cfg, rest)
         cfg.task.contacts.log = False
         episodes = int(cfg.episodes)

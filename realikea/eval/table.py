@@ -15,10 +15,14 @@ import json
 import numpy as np
 from omegaconf import DictConfig
 
-from realikea.assets.cache import atomic_write_text
-from realikea.assets.split import effective_split, with_default_split
-from realikea.config import load_config, repo_path
+from realikea.assets.catalog import effective_split
+from realikea.assets.split import with_default_split
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.protocol import run_episodes
+from realikea.files import atomic_write_text, repo_path
+from realikea.policies.registry import make_policy
+from realikea.pool.env_pool import EnvPool
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.outcome import OUTCOMES
 
@@ -37,7 +41,8 @@ def cell_config(overrides: list[str], policy: str, category: str, resistance: st
         with_default_split(
             [*overrides, f"policy={policy}", f"asset={category}", f"resistance={resistance}"],
             "test",
-        )
+        ),
+        "eval",
     )
     cfg.asset.kind = cfg.table.kind
     cfg.task.contacts.log = True
@@ -120,11 +125,7 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
 
 def run_table(overrides: list[str]) -> int:
     """Evaluate the grid of `cfg.table` and write `table2.csv` and `table2.md` to `table.out`."""
-    from realikea.eval.protocol import run_episodes
-    from realikea.policies.registry import make_policy
-    from realikea.pool.env_pool import EnvPool
-
-    cfg = load_config(overrides)
+    cfg = load_config(overrides, "eval")
     table = cfg.table
     policies, categories, resistances = (
         list(table[k]) for k in ("policies", "categories", "resistances")

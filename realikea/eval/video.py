@@ -9,7 +9,7 @@ import imageio.v2 as imageio
 import mujoco
 import numpy as np
 
-from realikea.assets.cache import atomic_path
+from realikea.files import atomic_path
 from realikea.tasks.open_task import OpenTask
 
 FPS = 10  # one frame per control step (the policy runs at 10 Hz)

@@ -8,9 +8,11 @@ import shlex
 import sys
 from pathlib import Path
 
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.fidelity.meshes import load_pair
 from realikea.fidelity.metric import DEFAULT_SAMPLES, FidelityResult, surface_deviation
+from realikea.fidelity.report import run_report as write_report
 
 MM = 1000.0
 
@@ -130,8 +132,6 @@ def report_command(args: argparse.Namespace) -> str:
 
 def run_report(args: argparse.Namespace) -> int:
     """Write the library-wide fidelity report and print where it went."""
-    from realikea.config import load_config
-    from realikea.fidelity.report import run_report as write_report
 
     result = write_report(
         load_config(args.overrides),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -10,18 +11,71 @@ from omegaconf import DictConfig, OmegaConf
 from rsl_rl.models import MLPModel
 from tensordict import TensorDict
 
-from realikea.config import repo_path
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
-from realikea.training.train import check_layout
+
+# beside the checkpoints of runs made before checkpoints carried their layout and config
+LAYOUT_FILE = "observation_layout.json"
 
 
-def run_config(checkpoint: Path) -> DictConfig:
-    """The training config of the run a checkpoint belongs to (Hydra's .hydra/config.yaml)."""
+def checkpoint_infos(cfg: DictConfig) -> dict:
+    """What a checkpoint carries besides the weights (rsl-rl's `save(path, infos)`): the
+    observation layout it was trained on and the run's resolved config, so it evaluates alone."""
+    return {
+        "observation_layout": [list(item) for item in observations.LAYOUT],
+        "config": OmegaConf.to_container(cfg, resolve=True),
+    }
+
+
+def load_saved(checkpoint: Path) -> dict:
+    """The checkpoint's saved dict, with clear errors for a missing or unreadable file."""
+    path = Path(checkpoint)
+    if not path.is_file():
+        raise RealIkeaError(f"checkpoint not found: {path}")
+    try:
+        saved = torch.load(path, map_location="cpu", weights_only=False)
+    except Exception as err:  # truncated zip, pickle of something else
+        raise RealIkeaError(f"{path}: not a readable rsl-rl checkpoint ({err})") from err
+    if not isinstance(saved, dict) or "actor_state_dict" not in saved:
+        raise RealIkeaError(f"{path}: not a readable rsl-rl checkpoint (no actor_state_dict)")
+    return saved
+
+
+def _infos(saved: dict) -> dict:
+    return saved.get("infos") or {}
+
+
+def check_layout(checkpoint: Path, saved: dict) -> None:
+    """Refuse a checkpoint trained on another observation layout (the layout it carries, or the
+    side file of an older run)."""
+    stored = _infos(saved).get("observation_layout")
+    if stored is None:
+        layout_file = Path(checkpoint).parent / LAYOUT_FILE
+        if not layout_file.is_file():
+            raise RealIkeaError(
+                f"{checkpoint}: carries no observation layout and has no {LAYOUT_FILE} beside "
+                "it; not a Real-IKEA run"
+            )
+        stored = json.loads(layout_file.read_text())
+    stored = [tuple(item) for item in stored]
+    if stored != list(observations.LAYOUT):
+        raise RealIkeaError(
+            f"{checkpoint}: trained on observation layout {stored}, this code uses "
+            f"{list(observations.LAYOUT)}"
+        )
+
+
+def run_config(checkpoint: Path, saved: dict | None = None) -> DictConfig:
+    """The training config of the run a checkpoint belongs to: the one it carries, or (older
+    runs) Hydra's .hydra/config.yaml beside it."""
+    saved = load_saved(checkpoint) if saved is None else saved
+    if "config" in _infos(saved):
+        return OmegaConf.create(_infos(saved)["config"])
     path = Path(checkpoint).parent / ".hydra" / "config.yaml"
     if not path.is_file():
-        raise RealIkeaError(f"{checkpoint}: no training config at {path}")
+        raise RealIkeaError(f"{checkpoint}: carries no config and has none at {path}")
     return OmegaConf.load(path)
 
 
@@ -32,15 +86,11 @@ class CheckpointPolicy:
 
     def __init__(self, path: Path):
         path = Path(path)
-        if not path.is_file():
-            raise RealIkeaError(f"checkpoint not found: {path}")
-        check_layout(path)
-        self.run_cfg = run_config(path)
+        saved = load_saved(path)
+        check_layout(path, saved)
+        self.run_cfg = run_config(path, saved)
         agent = self.run_cfg.agent
-        try:
-            state = torch.load(path, map_location="cpu", weights_only=False)["actor_state_dict"]
-        except Exception as err:  # truncated zip, pickle of something else, missing key
-            raise RealIkeaError(f"{path}: not a readable rsl-rl checkpoint ({err})") from err
+        state = saved["actor_state_dict"]
         dummy = TensorDict({"policy": torch.zeros(1, observations.SIZE)}, batch_size=[1])
         self.actor = MLPModel(
             dummy,

@@ -33,7 +33,7 @@ from realikea.tasks.open_task import ACTION_SIZE, OpenTask, StepResult
 FORMAT = "realikea-demonstration"
 VERSION = 1
 # what an episode summary keeps of the task's final info
-_SUMMARY_KEYS = ("outcome", "termination", "opening", "episode_return", "strategy")
+_SUMMARY_KEYS = ("outcome", "termination", "opening", "strategy")
 
 
 @dataclass
@@ -124,6 +124,7 @@ class Recorder:
     def end(self, info: dict, complete: bool = True) -> Episode:
         summary = {k: info[k] for k in _SUMMARY_KEYS if k in info}
         summary.update(steps=len(self._actions), complete=bool(complete))
+        summary["episode_return"] = float(sum(self._rewards))  # the task's own sum, in order
         episode = Episode(
             np.array(self._actions, dtype=np.float64).reshape(-1, ACTION_SIZE),
             np.array(self._obs, dtype=np.float64).reshape(-1, observations.SIZE),

@@ -54,7 +54,7 @@ BODY_STEP = 0.008  # m the finger body steps back from the pad's contact plane
 
 @dataclass(frozen=True)
 class OracleParams:
-    """Geometric constants of the plan (conf/policy/hook_oracle.yaml documents them)."""
+    """Geometric constants of the plan (realikea/conf/policy/hook_oracle.yaml documents them)."""
 
     clearance: float = 0.002  # m kept between the hand and the part or the front while placing
     standoff: float = 0.04  # m in front of the part where the approach starts

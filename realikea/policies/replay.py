@@ -22,8 +22,9 @@ import sys
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.config import repo_path
+from realikea.config import overrides_set
 from realikea.errors import RealIkeaError
+from realikea.files import repo_path
 from realikea.policies.demonstration import Demonstration, load_demonstration
 from realikea.policies.per_env import PerEnvPolicy
 from realikea.tasks.open_task import ACTION_SIZE
@@ -31,10 +32,6 @@ from realikea.tasks.open_task import ACTION_SIZE
 # groups the recording brings unless the command line overrides them (the asset always)
 RECORDED_GROUPS = ("resistance", "collision", "gripper", "contact", "sim", "task", "dr", "workflow")
 AFTER_END = ("zero_motion", "last_action")
-
-
-def _overridden(key: str, overrides: list[str]) -> bool:
-    return any(o.lstrip("+~").split("=")[0].startswith(key) for o in overrides)
 
 
 class ReplayPolicy(PerEnvPolicy):
@@ -76,7 +73,7 @@ class ReplayPolicy(PerEnvPolicy):
         meta = self.demo.metadata
         merged = OmegaConf.to_container(cfg, resolve=True)
         for group in RECORDED_GROUPS:
-            if group in rec and not _overridden(group, overrides):
+            if group in rec and not overrides_set(overrides, group):
                 merged[group] = OmegaConf.to_container(rec[group], resolve=True)
         merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
         merged["asset"] = {
@@ -85,12 +82,12 @@ class ReplayPolicy(PerEnvPolicy):
             "base": meta["base"],
             "kind": None,
         }
-        if not _overridden("env.seed", overrides):
+        if not overrides_set(overrides, "env.seed"):
             merged["env"]["seed"] = self.demo.seed
-        if not _overridden("env.num_workers", overrides):
+        if not overrides_set(overrides, "env.num_workers"):
             merged["env"]["num_workers"] = 0  # one env: a worker process would only add start-up
         merged["env"]["num_envs"] = 1
-        if not _overridden("episodes", overrides):
+        if not overrides_set(overrides, "episodes"):
             merged["episodes"] = len(self.demo.episodes)
         return OmegaConf.create(merged)
 

@@ -46,7 +46,7 @@ class Waypoint:
 
 @dataclass(frozen=True)
 class ActionScales:
-    """The task's action scales (conf/task/open.yaml: action)."""
+    """The task's action scales (realikea/conf/task/open.yaml: action)."""
 
     translation: float = 0.01  # m per unit command
     pitch: float = 0.04  # rad per unit command
@@ -169,7 +169,7 @@ def follow(path: list[tuple[np.ndarray, float]], pitch: float, grip: float) -> l
 
 @dataclass(frozen=True)
 class Pull:
-    """How a scripted policy pulls a front open (conf/policy/*.yaml: pull_*)."""
+    """How a scripted policy pulls a front open (realikea/conf/policy/*.yaml: pull_*)."""
 
     distance: float = 0.4  # m along a drawer's opening direction
     angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)

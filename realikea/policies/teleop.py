@@ -35,9 +35,11 @@ from pathlib import Path
 import numpy as np
 from omegaconf import DictConfig
 
-from realikea.config import repo_path
+from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
-from realikea.tasks.open_task import ACTION_SIZE
+from realikea.files import repo_path
+from realikea.policies.demonstration import Recorder, Session
+from realikea.tasks.open_task import ACTION_SIZE, OpenTask
 
 # GLFW key codes, as mujoco.viewer's key_callback receives them
 KEY_ENTER, KEY_INSERT = 257, 260
@@ -179,10 +181,6 @@ class TeleopPolicy:
         """One task in the viewer at 10 Hz real time until the window closes; records episodes."""
         require_display()
         import mujoco.viewer
-
-        from realikea.assets.library import training_configurations
-        from realikea.policies.demonstration import Recorder, Session
-        from realikea.tasks.open_task import OpenTask
 
         seed = int(cfg.env.seed)
         (mjcf,) = training_configurations(cfg, 1, seed)

@@ -19,6 +19,8 @@ from tensordict import TensorDict
 from realikea.errors import RealIkeaError
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.outcome import OUTCOMES
+from realikea.tasks.rewards import REWARD_TERMS
+from realikea.tasks.terminations import TERMINATIONS, TIMEOUT
 
 OBS_GROUPS = ("policy", "critic")
 
@@ -97,8 +99,17 @@ class RslRlVecEnv(VecEnv):
         return self._observations(obs), rewards, dones, extras
 
     def _log(self, episodes: list[dict]) -> dict[str, float | torch.Tensor]:
-        """Per-episode outcome indicators (rsl-rl averages them over the iteration) and counters."""
+        """Per-episode values (rsl-rl averages them over the iteration): outcome indicators, each
+        reward term's episode sum (`/episode_reward/<term>`), termination indicators
+        (`/termination/<name>`); and the pool's counters."""
         log: dict[str, float | torch.Tensor] = {}
+        if episodes:
+            names = [e["termination"] for e in episodes]
+            for name in dict.fromkeys([*TERMINATIONS, TIMEOUT, *names]):
+                log[f"/termination/{name}"] = torch.tensor([float(x == name) for x in names])
+        summed = [e["reward_terms"] for e in episodes if "reward_terms" in e]
+        for term in REWARD_TERMS if summed else ():
+            log[f"/episode_reward/{term}"] = torch.tensor([e.get(term, 0.0) for e in summed])
         finished = [e for e in episodes if "outcome" in e]
         if finished:
             labels = [e["outcome"] for e in finished]

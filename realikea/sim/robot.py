@@ -1,11 +1,12 @@
 """A Franka-Panda-class arm with a Franka Hand, authored as MJCF from published data.
 
-Kinematics: the Panda's modified Denavit-Hartenberg table (DESIGN.md; Franka's published robot
-data). Each link frame is the Craig frame i, so body i sits at Rx(alpha) Tx(a) Tz(d) in its parent
-and turns about its own z. Dynamics: link masses, centres of mass and inertias from the feasible
-parameter set identified by Gaz et al., "Dynamic identification of the Franka Emika Panda robot
-with retrieval of feasible parameters using penalty-based optimization", IEEE RA-L 4(4), 2019
-(the same numbers MuJoCo Menagerie's panda.xml uses); the hand's 0.73 kg is Franka's datasheet mass.
+Kinematics: the Panda's modified Denavit-Hartenberg table (Franka's published robot data, the
+Franka Control Interface documentation). Each link frame is the Craig frame i, so body i sits at
+Rx(alpha) Tx(a) Tz(d) in its parent and turns about its own z. Dynamics: link masses, centres of
+mass and inertias from the feasible parameter set identified by Gaz et al., "Dynamic identification
+of the Franka Emika Panda robot with retrieval of feasible parameters using penalty-based
+optimization", IEEE RA-L 4(4), 2019 (the same numbers MuJoCo Menagerie's panda.xml uses); the
+hand's 0.73 kg is Franka's datasheet mass.
 Torque limits 87/12 Nm are Franka's. Collision: capsules per link and boxes for the hand and
 fingers, sized to the real robot's envelope, so contacts stay cheap primitive pairs.
 
@@ -157,7 +158,7 @@ class GripperModel:
 
     @classmethod
     def from_config(cls, cfg: DictConfig) -> GripperModel:
-        """Build from a `conf/gripper/*.yaml` group: drive `force_limited` or `servo`."""
+        """Build from a `realikea/conf/gripper/*.yaml` group: drive `force_limited` or `servo`."""
         common = dict(
             name=str(cfg.name),
             stroke=float(cfg.stroke),

@@ -2,7 +2,7 @@
 
 World frame: the floor is z = 0; x = 0 is the cabinet's front plane, +x points out of the front
 towards the robot, +y to the viewer's right (the configuration's own frame, raised to where it
-stands). Two scenes (`cfg.scene`, conf/scene/):
+stands). Two scenes (`cfg.scene`, realikea/conf/scene/):
 
 * `kitchen` (default): the configuration stands in a fitted kitchen run (realikea/sim/kitchen.py)
   on the floor, and the robot is placed as a mobile manipulator with a lift would be: facing the

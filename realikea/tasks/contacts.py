@@ -31,7 +31,8 @@ SUMMARY_KEYS = (
 
 @dataclass(frozen=True)
 class ClassifierParams:
-    """Thresholds of the pulling phase and of the labels (conf/task/open.yaml: contacts)."""
+    """Thresholds of the pulling phase and of the labels (realikea/conf/task/open.yaml:
+    contacts)."""
 
     min_opening_rate: float  # m/s or rad/s: the front counts as opening above this
     min_pull: float  # N along u the gripper must put on the part for a pulling step

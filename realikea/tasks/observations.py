@@ -1,22 +1,102 @@
-"""The privileged observation of the appendix, as one flat vector per environment."""
+"""The privileged observation of the appendix as named terms, one flat vector per environment.
+
+Each term maps the step's `ObservationInputs` to a list of floats; `TERMS` fixes their order and
+sizes, which generate `LAYOUT`, part of a checkpoint's contract. Terms work on plain Python
+floats: a numpy op per term would cost more in per-call overhead than the arithmetic (this runs
+once per env and control step).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import NamedTuple
+
 import numpy as np
 
-# name -> size, in the order they are concatenated; the layout is part of a checkpoint's contract
-LAYOUT = (
-    ("tcp_pos", 3),  # TCP position relative to the robot base (m)
-    ("tcp_rot6d", 6),  # first two columns of the TCP rotation matrix
-    ("handle_pos", 3),  # handle position relative to the robot base (m)
-    ("handle_from_tcp", 3),  # handle - TCP (m)
-    ("opening", 1),  # articulation displacement (m or rad)
-    ("opening_vel", 1),  # its rate
-    ("aperture", 1),  # normalized finger opening, 0 closed .. 1 open
-    ("closed", 1),  # closure indicator s_close
-    ("prev_action", 5),
-    ("stage", 4),  # one-hot over the four reward stages
+
+class ObservationInputs(NamedTuple):
+    """What the observation is made of (world frame, Python floats)."""
+
+    tcp_pos: list[float]
+    tcp_rot: list[list[float]]  # 3x3 rotation, rows
+    handle_pos: list[float]
+    base_pos: list[float]
+    opening: float
+    opening_vel: float
+    aperture: float
+    closed: bool
+    prev_action: list[float]
+    stage: int
+
+
+def tcp_pos(v: ObservationInputs) -> list[float]:
+    """TCP position relative to the robot base (m)."""
+    (tx, ty, tz), (bx, by, bz) = v.tcp_pos, v.base_pos
+    return [tx - bx, ty - by, tz - bz]
+
+
+def tcp_rot6d(v: ObservationInputs) -> list[float]:
+    """The first two columns of the TCP rotation matrix."""
+    (r00, r01, _), (r10, r11, _), (r20, r21, _) = v.tcp_rot
+    return [r00, r10, r20, r01, r11, r21]
+
+
+def handle_pos(v: ObservationInputs) -> list[float]:
+    """Handle position relative to the robot base (m)."""
+    (hx, hy, hz), (bx, by, bz) = v.handle_pos, v.base_pos
+    return [hx - bx, hy - by, hz - bz]
+
+
+def handle_from_tcp(v: ObservationInputs) -> list[float]:
+    """Handle - TCP (m)."""
+    (hx, hy, hz), (tx, ty, tz) = v.handle_pos, v.tcp_pos
+    return [hx - tx, hy - ty, hz - tz]
+
+
+def opening(v: ObservationInputs) -> list[float]:
+    """The front's displacement (m or rad)."""
+    return [v.opening]
+
+
+def opening_vel(v: ObservationInputs) -> list[float]:
+    return [v.opening_vel]
+
+
+def aperture(v: ObservationInputs) -> list[float]:
+    """Normalized finger opening, 0 closed .. 1 open."""
+    return [v.aperture]
+
+
+def closed(v: ObservationInputs) -> list[float]:
+    """The closure indicator s_close."""
+    return [float(v.closed)]
+
+
+def prev_action(v: ObservationInputs) -> list[float]:
+    return list(v.prev_action)
+
+
+def stage(v: ObservationInputs) -> list[float]:
+    """One-hot over the four reward stages."""
+    one_hot = [0.0, 0.0, 0.0, 0.0]
+    one_hot[int(v.stage) - 1] = 1.0
+    return one_hot
+
+
+# (name, size, term) in the order they are concatenated
+TERMS: tuple[tuple[str, int, Callable[[ObservationInputs], list[float]]], ...] = (
+    ("tcp_pos", 3, tcp_pos),
+    ("tcp_rot6d", 6, tcp_rot6d),
+    ("handle_pos", 3, handle_pos),
+    ("handle_from_tcp", 3, handle_from_tcp),
+    ("opening", 1, opening),
+    ("opening_vel", 1, opening_vel),
+    ("aperture", 1, aperture),
+    ("closed", 1, closed),
+    ("prev_action", 5, prev_action),
+    ("stage", 4, stage),
 )
+LAYOUT = tuple((name, size) for name, size, _ in TERMS)
 SIZE = sum(n for _, n in LAYOUT)
 
 
@@ -29,38 +109,9 @@ def slices() -> dict[str, slice]:
     return out
 
 
-def observation(
-    tcp_pos,
-    tcp_rot,
-    handle_pos,
-    base_pos,
-    opening,
-    opening_vel,
-    aperture,
-    closed,
-    prev_action,
-    stage,
-) -> np.ndarray:
-    """Concatenate the terms of LAYOUT (all for one environment).
-
-    Assembled from Python floats into one array: a vector op per term would cost more in numpy's
-    per-call overhead than the arithmetic (this runs once per env and control step).
-    """
-    tx, ty, tz = np.asarray(tcp_pos).tolist()
-    hx, hy, hz = np.asarray(handle_pos).tolist()
-    bx, by, bz = np.asarray(base_pos).tolist()
-    (r00, r01, _), (r10, r11, _), (r20, r21, _) = np.asarray(tcp_rot).tolist()
-    one_hot = [0.0, 0.0, 0.0, 0.0]
-    one_hot[int(stage) - 1] = 1.0
-    return np.array(
-        [
-            tx - bx, ty - by, tz - bz,  # tcp_pos
-            r00, r10, r20, r01, r11, r21,  # tcp_rot6d: columns 0 and 1
-            hx - bx, hy - by, hz - bz,  # handle_pos
-            hx - tx, hy - ty, hz - tz,  # handle_from_tcp
-            opening, opening_vel, aperture, float(closed),
-            *np.asarray(prev_action).tolist(),
-            *one_hot,
-        ],
-        dtype=np.float64,
-    )  # fmt: skip
+def observation(inputs: ObservationInputs) -> np.ndarray:
+    """Concatenate the terms of TERMS for one environment."""
+    values: list[float] = []
+    for _, _, term in TERMS:
+        values += term(inputs)
+    return np.array(values, dtype=np.float64)

@@ -32,11 +32,18 @@ from realikea.sim.scene import (
     reset_home,
 )
 from realikea.tasks import observations
-from realikea.tasks.contacts import ClassifierParams, ContactLog, ContactMonitor, subtree_geoms
+from realikea.tasks.contacts import (
+    SUMMARY_KEYS,
+    ClassifierParams,
+    ContactLog,
+    ContactMonitor,
+    subtree_geoms,
+)
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
-from realikea.tasks.rewards import RewardParams, jerk_penalty, next_stage, staged_reward
+from realikea.tasks.rewards import RewardParams, StepValues, next_stage, weighted_terms
+from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 
 ACTION_SIZE = 5
 # MuJoCo's warnings that a step went wrong: a NaN/huge state or control (MuJoCo then silently
@@ -60,18 +67,8 @@ class EpisodeState:
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
     stagnant: int = 0
-    episode_return: float = 0.0
+    term_sums: dict[str, float] = field(default_factory=dict)  # reward term -> episode sum
     contacts: ContactLog = field(default_factory=ContactLog)
-
-
-@dataclass(frozen=True)
-class Terminations:
-    """When an episode ends early (conf/task/open.yaml: terminations)."""
-
-    ik_failure_steps: int
-    stagnation_steps: int
-    stagnation_command: float
-    stagnation_motion: float
 
 
 @dataclass(frozen=True)
@@ -85,6 +82,11 @@ class StepResult:
 
 class OpenTask:
     """The robot opening one configuration's front (drawer, door or flap)."""
+
+    observation_size = observations.SIZE
+    action_size = ACTION_SIZE
+    # what an episode's record in the env pool keeps of the final info
+    episode_keys = ("outcome", "termination", "opening", "reward_terms", *SUMMARY_KEYS)
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         task = cfg.task
@@ -202,16 +204,18 @@ class OpenTask:
         d = self.data
         aperture = self.aperture
         return observations.observation(
-            d.site_xpos[self._tcp],
-            d.site_xmat[self._tcp].reshape(3, 3),
-            d.site_xpos[self._handle],
-            d.xpos[self._base],
-            self.opening,
-            float(d.qvel[self._front_v]),
-            aperture,
-            aperture < self.params.close_below,
-            self.state.prev_action,
-            self.state.stage,
+            observations.ObservationInputs(
+                d.site_xpos[self._tcp].tolist(),
+                d.site_xmat[self._tcp].reshape(3, 3).tolist(),
+                d.site_xpos[self._handle].tolist(),
+                d.xpos[self._base].tolist(),
+                self.opening,
+                float(d.qvel[self._front_v]),
+                aperture,
+                aperture < self.params.close_below,
+                self.state.prev_action.tolist(),
+                self.state.stage,
+            )
         )
 
     # --- episode --------------------------------------------------------------------------
@@ -274,18 +278,23 @@ class OpenTask:
         return bool(bad or not np.isfinite(self.data.qpos).all())
 
     def evaluate(self, ik_ok: bool) -> StepResult:
-        """Reward, terminations and info after the physics of a control step."""
+        """Reward (the weighted `REWARD_TERMS`), terminations (`TERMINATIONS`) and info after the
+        physics of a control step; an episode's end carries each term's sum in `reward_terms`."""
         s, p, a = self.state, self.params, self._last_action
         s.steps += 1
         diverged = self.diverged()
         d1, d2 = self._targets()
         aperture, opening = self.aperture, self.opening
         s.stage = next_stage(s.stage, d1, d2, aperture, p)
-        reward = staged_reward(s.stage, d1, d2, aperture, opening, p)
-        reward += jerk_penalty(
-            a.tolist(), s.prev_action.tolist(), s.prev_prev_action.tolist(), p.w_jerk
-        )
-        reward -= 0.0 if ik_ok else p.ik_cost
+        values = StepValues(
+            s.stage, d1, d2, aperture, opening,
+            a.tolist(), s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
+        )  # fmt: skip
+        reward = 0.0
+        for name, value in weighted_terms(values, p):
+            reward += value
+            if not diverged:
+                s.term_sums[name] = s.term_sums.get(name, 0.0) + value
         s.ik_failures = 0 if ik_ok else s.ik_failures + 1
         term = self.terminations
         step = self.data.site_xpos[self._tcp] - self._tcp_before
@@ -296,20 +305,14 @@ class OpenTask:
         s.prev_prev_action, s.prev_action = s.prev_action, a
         if diverged:
             reward = 0.0
-        s.episode_return += reward
-        reasons = {
-            "ik_infeasible": s.ik_failures >= term.ik_failure_steps,
-            "stagnation": s.stagnant >= term.stagnation_steps,
-            "diverged": diverged,
-        }
-        terminated = any(reasons.values())
+        ended = termination(s, term, diverged)
+        terminated = ended is not None
         truncated = not terminated and s.steps >= self.horizon
         info = {"opening": opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
         if terminated or truncated:
             info["outcome"] = str(outcome(opening, self.joint_type, self.outcome_thresholds))
-            info["episode_return"] = s.episode_return
-            info["episode_steps"] = s.steps
-            info["termination"] = next((k for k, v in reasons.items() if v), "timeout")
+            info["termination"] = ended or TIMEOUT
+            info["reward_terms"] = dict(s.term_sums)
             if self.contact_monitor is not None:
                 period = self.classifier.sample_substeps * self.model.opt.timestep
                 info.update(s.contacts.summary(self.part.category, self.classifier, period))

@@ -1,4 +1,6 @@
-"""The paper's four gated reward stages with monotone baselines, plus jerk and IK costs.
+"""The task's reward as named terms: the paper's four gated stages with monotone baselines, plus
+jerk and IK-failure costs. The reward of a control step is the weighted sum of `REWARD_TERMS` in
+their order (weights: `realikea/conf/task/open.yaml` reward); the task logs each term's episode sum.
 
 Stage 1 approaches a pre-grasp target t1 with the jaws open, stage 2 refines towards t2,
 stage 3 closes the jaws, stage 4 rewards opening. Each stage adds the maximum of the ones
@@ -12,13 +14,14 @@ the arithmetic.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
 
 @dataclass(frozen=True)
 class RewardParams:
-    """Constants of the appendix (DESIGN.md) plus the auxiliary cost weights."""
+    """The paper's appendix constants (stages, weights) plus the auxiliary cost weights."""
 
     eps: float = 0.01
     w_open1: float = 2.0
@@ -88,3 +91,50 @@ def jerk_penalty(action, previous, before_previous, weight: float) -> float:
         second_difference = a - 2.0 * b + c
         total += second_difference * second_difference
     return -weight * total
+
+
+@dataclass(frozen=True)
+class StepValues:
+    """What the reward terms read after one control step (plain Python numbers)."""
+
+    stage: int
+    d1: float  # TCP to the pre-grasp target t1 (m)
+    d2: float  # TCP to the grasp target t2 (m)
+    aperture: float  # normalized finger opening
+    opening: float  # the front's displacement (m or rad)
+    action: list[float]
+    prev_action: list[float]
+    prev_prev_action: list[float]
+    ik_ok: bool
+
+
+def stage_term(v: StepValues, p: RewardParams) -> float:
+    """The active stage's reward (its own weights are the appendix's constants)."""
+    return staged_reward(v.stage, v.d1, v.d2, v.aperture, v.opening, p)
+
+
+def jerk_term(v: StepValues, p: RewardParams) -> float:
+    """-||a_t - 2 a_{t-1} + a_{t-2}||^2, before its weight."""
+    return jerk_penalty(v.action, v.prev_action, v.prev_prev_action, 1.0)
+
+
+def ik_failure_term(v: StepValues, p: RewardParams) -> float:
+    """-1 on a step whose IK target was infeasible, before its weight."""
+    return 0.0 if v.ik_ok else -1.0
+
+
+# name -> (term, the RewardParams field that weighs it; None: the term carries its own weights)
+REWARD_TERMS: dict[str, tuple[Callable[[StepValues, RewardParams], float], str | None]] = {
+    "stage": (stage_term, None),
+    "jerk": (jerk_term, "w_jerk"),
+    "ik_failure": (ik_failure_term, "ik_cost"),
+}
+
+
+def weighted_terms(v: StepValues, p: RewardParams) -> list[tuple[str, float]]:
+    """(name, weighted value) of every term, in `REWARD_TERMS` order."""
+    out = []
+    for name, (term, weight) in REWARD_TERMS.items():
+        value = term(v, p)
+        out.append((name, value if weight is None else getattr(p, weight) * value))
+    return out

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -12,11 +11,9 @@ from rsl_rl.runners import OnPolicyRunner
 
 from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
+from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_saved
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
-from realikea.tasks import observations
-
-LAYOUT_FILE = "observation_layout.json"
 
 
 def runner_config(cfg: DictConfig) -> dict:
@@ -49,25 +46,22 @@ def runner_config(cfg: DictConfig) -> dict:
     }
 
 
-def check_layout(checkpoint: Path) -> None:
-    """Refuse a checkpoint trained on another observation layout."""
-    layout_file = Path(checkpoint).parent / LAYOUT_FILE
-    if not layout_file.is_file():
-        raise RealIkeaError(f"{checkpoint}: no {LAYOUT_FILE} beside it; not a Real-IKEA run")
-    stored = [tuple(item) for item in json.loads(layout_file.read_text())]
-    if stored != list(observations.LAYOUT):
-        raise RealIkeaError(
-            f"{checkpoint}: trained on observation layout {stored}, this code uses "
-            f"{list(observations.LAYOUT)}"
-        )
+class Runner(OnPolicyRunner):
+    """rsl-rl's runner whose every checkpoint carries `infos` (the observation layout and the
+    run's resolved config: `checkpoint_infos`), so a checkpoint evaluates without its run folder."""
+
+    def __init__(self, *args, infos: dict, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.infos = infos
+
+    def save(self, path: str, infos: dict | None = None) -> None:
+        super().save(path, {**self.infos, **(infos or {})})
 
 
 def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
     """Load weights and optimizer state with clear errors for missing or corrupt files."""
     path = Path(path)
-    if not path.is_file():
-        raise RealIkeaError(f"checkpoint not found: {path}")
-    check_layout(path)
+    check_layout(path, load_saved(path))
     try:
         runner.load(str(path))
     except Exception as err:  # torch raises many types for truncated or foreign files
@@ -81,12 +75,15 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     torch.manual_seed(int(cfg.env.seed))
     np.random.seed(int(cfg.env.seed))
     mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
-    (run_dir / LAYOUT_FILE).write_text(json.dumps(observations.LAYOUT))
     pool = EnvPool(cfg, mjcfs)
     try:
         env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env))
-        runner = OnPolicyRunner(
-            env, runner_config(cfg), log_dir=str(run_dir), device=cfg.train.device
+        runner = Runner(
+            env,
+            runner_config(cfg),
+            log_dir=str(run_dir),
+            device=cfg.train.device,
+            infos=checkpoint_infos(cfg),
         )
         if cfg.train.resume:
             load_checkpoint(runner, Path(cfg.train.resume))

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import mujoco
 
-from realikea.assets.cache import atomic_write_text
 from realikea.assets.workflow.assembly import (
     FRICTION_SOLIMP,
     FRICTION_SOLREF,
@@ -17,6 +16,7 @@ from realikea.assets.workflow.assembly import (
     Geom,
 )
 from realikea.errors import RealIkeaError
+from realikea.files import atomic_write_text
 
 
 def _fmt(values) -> str:

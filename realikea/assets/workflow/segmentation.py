@@ -6,6 +6,7 @@ import numpy as np
 import trimesh
 
 from realikea.assets.catalog import Part
+from realikea.assets.shapes import part_mesh
 from realikea.errors import RealIkeaError
 
 
@@ -27,6 +28,5 @@ def formatted_components(part: Part) -> list[trimesh.Trimesh]:
 def _source_mesh(part: Part) -> trimesh.Trimesh:
     if part.mesh_file is not None:
         return trimesh.load_mesh(part.mesh_file, process=False)
-    from realikea.assets.shapes import part_mesh
 
     return part_mesh(part.family, part.dims)

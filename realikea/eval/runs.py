@@ -1,7 +1,7 @@
 """End-of-training evaluation (`train.eval_after`): the run's last checkpoint under several
 resistance modes through `realikea eval`'s own code, written to `<run>/eval.json`.
 
-`realikea eval rerun run=DIR [run=DIR ...]` repeats it for finished runs (after a change to the
+`realikea eval rerun DIR [DIR ...]` repeats it for finished runs (after a change to the
 evaluation, e.g. the classifier), from the run's own config and command line.
 
 Each mode is exactly `realikea eval <the run's command-line overrides> asset.split=<split>
@@ -9,7 +9,7 @@ policy=checkpoint policy.path=<checkpoint> resistance=<mode> episodes=<n> [dr=..
 [env.seed=...]` (the command is stored beside its result, so any entry can be re-run by hand).
 
 The split (`train.eval_after.split`: train, test or all) defaults to `test`, the parts held out
-of training (assets/split.csv). A run made before the split existed (its config has no
+of training (realikea/catalog/split.csv). A run made before the split existed (its config has no
 asset.split) is re-evaluated on `all`, as it was then.
 """
 
@@ -22,7 +22,14 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.cache import atomic_write_text
+from realikea.assets.catalog import effective_split
+from realikea.assets.split import check_split_value
+from realikea.config import overrides_set
+from realikea.errors import RealIkeaError
+from realikea.eval.setup import eval_setup, evaluate
+from realikea.eval.sweep import checkpoints
+from realikea.eval.table import CONTACT_STATS, cell_row
+from realikea.files import atomic_write_text, repo_path
 
 EVAL_FILE = "eval.json"
 # run overrides the evaluation replaces or that only concern training
@@ -30,14 +37,8 @@ _DROPPED = ("resistance", "policy", "episodes", "video", "train", "logger", "ass
 DEFAULT_SPLIT = "test"  # evaluate on the held-out parts unless train.eval_after.split says
 
 
-def _key(override: str) -> str:
-    return override.lstrip("+~").split("=", 1)[0]
-
-
 def eval_split(spec: DictConfig, default: str = DEFAULT_SPLIT) -> str:
     """The split an evaluation spec draws from: spec.split, else `default`."""
-    from realikea.assets.split import check_split_value
-
     return check_split_value(spec.get("split") or default)
 
 
@@ -54,11 +55,7 @@ def eval_overrides(
         dropped.append("dr")
     if spec.get("seed") is not None:
         dropped.append("env.seed")
-    kept = [
-        o
-        for o in run_overrides
-        if not any(_key(o) == d or _key(o).startswith(d + ".") for d in dropped)
-    ]
+    kept = [o for o in run_overrides if not any(overrides_set([o], d) for d in dropped)]
     out = [*kept, f"asset.split={eval_split(spec, default_split)}", "policy=checkpoint"]
     out += [f"policy.path={Path(checkpoint).resolve()}"]
     out += [f"resistance={mode}", f"episodes={int(spec.episodes)}"]
@@ -83,10 +80,6 @@ def evaluate_run(
 ) -> dict:
     """Evaluate `checkpoint` under every mode of `spec.resistances` on the parts of
     `spec.split` (else `default_split`); write and return eval.json."""
-    from realikea.assets.split import effective_split
-    from realikea.eval.commands import eval_setup, evaluate
-    from realikea.eval.table import CONTACT_STATS, cell_row
-
     run_dir = Path(run_dir)
     report: dict = {
         "checkpoint": Path(checkpoint).name,
@@ -134,19 +127,11 @@ def run_scene(hydra: Path) -> list[str]:
     return [] if "scene" in OmegaConf.load(Path(hydra) / "config.yaml") else ["scene=freestanding"]
 
 
-def rerun(overrides: list[str]) -> int:
-    """`realikea eval rerun run=DIR ...`: evaluate each run's last checkpoint again with the
+def rerun(runs: list[Path]) -> int:
+    """`realikea eval rerun DIR [DIR ...]`: evaluate each run's last checkpoint again with the
     run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept);
     on the run's split (`rerun_split`) unless its spec names one."""
-    from realikea.config import repo_path
-    from realikea.errors import RealIkeaError
-    from realikea.eval.sweep import checkpoints
-
-    runs = [repo_path(o.split("=", 1)[1]) for o in overrides if o.startswith("run=")]
-    unknown = [o for o in overrides if not o.startswith("run=")]
-    if not runs or unknown:
-        raise RealIkeaError(f"realikea eval rerun takes only run=DIR arguments, got {overrides}")
-    for run in runs:
+    for run in map(repo_path, runs):
         hydra = run / ".hydra"
         if not (hydra / "config.yaml").is_file() or not (hydra / "overrides.yaml").is_file():
             raise RealIkeaError(f"{run}: not a training run (no .hydra/{{config,overrides}}.yaml)")

@@ -1,0 +1,59 @@
+"""What an evaluation runs with: the composed config (a checkpoint's own run groups, the held-out
+split by default) and the policy, then episodes on an env pool."""
+
+from __future__ import annotations
+
+from omegaconf import DictConfig, OmegaConf
+
+from realikea.assets.split import with_default_split
+from realikea.config import load_config, overrides_set
+from realikea.errors import RealIkeaError
+from realikea.eval.protocol import EvalResult, run_episodes
+from realikea.policies.registry import make_policy
+from realikea.pool.env_pool import EnvPool
+
+# groups a checkpoint brings from its own run unless the command line overrides them
+RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
+
+
+def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:
+    """The eval config with the run's robot, gripper, contact and task unless overridden."""
+    merged = OmegaConf.to_container(cfg, resolve=True)
+    for group in RUN_GROUPS:
+        if group in run_cfg and not overrides_set(overrides, group):
+            merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
+    # the strategy classifier belongs to the evaluation, not to the run
+    merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
+    return OmegaConf.create(merged)
+
+
+def eval_overrides_with_split(overrides: list[str]) -> list[str]:
+    """The evaluation draws from the held-out parts: `asset.split=test` unless `overrides` set
+    asset.split (train, test or all)."""
+    return with_default_split(overrides, "test")
+
+
+def eval_setup(overrides: list[str]):
+    """(cfg, policy) of `realikea eval OVERRIDES`: the composed config with a checkpoint's own
+    run groups (`effective_config`) or a policy's own configuration, contacts logged; the test
+    split unless the overrides name one (`eval_overrides_with_split`)."""
+    cfg = load_config(eval_overrides_with_split(overrides), "eval")
+    policy = make_policy(cfg)
+    if hasattr(policy, "run_interactive") and not overrides_set(overrides, "asset.split"):
+        cfg.asset.split = "train"  # teleop records demonstrations: training data, not a test
+    if hasattr(policy, "run_cfg"):
+        cfg = effective_config(cfg, policy.run_cfg, overrides)
+    if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
+        cfg = policy.configure(cfg, overrides)
+    cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
+    return cfg, policy
+
+
+def evaluate(cfg: DictConfig, policy, progress: bool = True) -> EvalResult:
+    """`cfg.episodes` episodes of `policy` on an env pool of at most `cfg.env.num_envs` envs."""
+    episodes = int(cfg.episodes)
+    if episodes < 1:
+        raise RealIkeaError(f"episodes={episodes}: use 1 or more")
+    cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
+    with EnvPool.from_config(cfg) as pool:
+        return run_episodes(pool, policy, episodes, progress=progress)

@@ -1,0 +1,1 @@
+"""Reports over experiment outputs: the logic behind the thin scripts under experiments/."""

@@ -1,0 +1,511 @@
+"""The fidelity-ablation report: every finished run (a directory holding `.hydra/config.yaml`,
+`eval.json` and `metrics.csv`) under the given roots, aggregated into report.md and plots
+(`python experiments/fidelity_ablation/report.py`, whose help says what it writes)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from collections import defaultdict
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+from omegaconf import OmegaConf
+
+from realikea.eval.commands import run_eval
+from realikea.eval.table import CONTACT_STATS
+from realikea.reports.metrics import read_metrics
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+DEFAULT_OUT = "experiments/fidelity_ablation"
+MODES = ("smooth", "normal", "high")
+OUTCOMES = ("fail", "partial", "success")
+OUTCOME_COLOURS = {"fail": "tab:red", "partial": "tab:orange", "success": "tab:green"}
+STRATEGY_COLOURS = {
+    "pinch": "tab:blue",
+    "hook": "tab:purple",
+    "lever": "tab:olive",
+    "front_pinch": "tab:cyan",
+    "front_hook": "tab:pink",
+    "none": "0.75",
+}
+
+
+def find_runs(roots: list[Path]) -> list[dict]:
+    """One dict per finished run: its cell, eval.json, metrics and frame strips."""
+    runs = []
+    for root in roots:
+        for eval_file in sorted(Path(root).rglob("eval.json")):
+            run_dir = eval_file.parent
+            config = run_dir / ".hydra" / "config.yaml"
+            if not config.is_file():
+                continue
+            cfg = OmegaConf.load(config)
+            metrics = run_dir / "metrics.csv"
+            runs.append(
+                {
+                    "dir": run_dir,
+                    "collision": str(cfg.collision.source),
+                    "resistance": str(cfg.resistance.name),
+                    "category": str(cfg.asset.category),
+                    "gripper": str(cfg.gripper.name),
+                    "contact": str(cfg.contact.name),
+                    "seed": int(cfg.env.seed),
+                    "iterations": int(cfg.agent.max_iterations),
+                    "num_envs": int(cfg.env.num_envs),
+                    "eval": json.loads(eval_file.read_text()),
+                    "metrics": read_metrics(run_dir) if metrics.is_file() else {},
+                    "strips": sorted((run_dir / "videos").glob("*.png")),
+                }
+            )
+    return runs
+
+
+def train_seconds(run: dict) -> float | None:
+    """eval.json's train_seconds, else the sum of rsl-rl's per-iteration collection+learning."""
+    seconds = run["eval"].get("train_seconds")
+    if seconds is not None:
+        return float(seconds)
+    parts = [run["metrics"].get(f"Perf/{k}_time", ([], []))[1] for k in ("collection", "learning")]
+    return float(sum(map(sum, parts))) if any(parts) else None
+
+
+def iterations_to_success(run: dict, level: float = 0.5, window: int = 20) -> int | None:
+    """The first iteration from which the training success, averaged over the next `window`
+    iterations, reaches `level` (None if it never does)."""
+    its, values = (np.asarray(x) for x in run["metrics"].get("/episode/success", ([], [])))
+    for start in np.unique(its):
+        chosen = (its >= start) & (its < start + window)
+        if values[chosen].mean() >= level:
+            return int(start)
+    return None
+
+
+def variant(run: dict, presets: int) -> str:
+    """The collision source, with the gripper/contact preset when several are present."""
+    if presets == 1:
+        return run["collision"]
+    return f"{run['collision']} ({run['gripper']}, {run['contact']})"
+
+
+def ordered(values, order=()) -> list:
+    present = set(values)
+    return [v for v in order if v in present] + sorted(present - set(order))
+
+
+def aggregate(runs: list[dict]) -> tuple[dict, dict]:
+    """cell (variant, resistance, category) -> eval mode -> mean summary over seeds; and
+    cell -> its runs."""
+    presets = len({(r["gripper"], r["contact"]) for r in runs})
+    by_cell = defaultdict(list)
+    for run in runs:
+        run["variant"] = variant(run, presets)
+        by_cell[run["variant"], run["resistance"], run["category"]].append(run)
+    cells = {}
+    for key, members in by_cell.items():
+        modes = {}
+        for mode in ordered({m for r in members for m in r["eval"]["modes"]}, MODES):
+            entries = [r["eval"]["modes"][mode] for r in members if mode in r["eval"]["modes"]]
+            out = {o: float(np.mean([e[o] for e in entries])) for o in OUTCOMES}
+            out["episodes"] = int(sum(e["episodes"] for e in entries))
+            out["seeds"] = len(entries)
+            strategies = [e["strategies"] for e in entries if e.get("strategies")]
+            if strategies:
+                out["strategies"] = {
+                    s: float(np.mean([x.get(s, 0.0) for x in strategies])) for s in STRATEGY_COLOURS
+                }
+            for stat in CONTACT_STATS:
+                values = [e.get("contacts", {}).get(stat) for e in entries]
+                values = [v for v in values if v is not None]
+                out[stat] = float(np.mean(values)) if values else None
+            modes[mode] = out
+        cells[key] = modes
+    return cells, by_cell
+
+
+def _fmt(value, digits=2) -> str:
+    return "–" if value is None else f"{value:.{digits}f}"
+
+
+def outcome_tables(cells: dict, variants, resistances, categories, modes) -> list[str]:
+    lines = [
+        "## Success per cell",
+        "",
+        "Success fraction of the last checkpoint, evaluated under each resistance mode "
+        "(columns), per training resistance and category (rows), mean over seeds.",
+        "",
+        "| category | trained on | "
+        + " | ".join(f"{v}: {m}" for v in variants for m in modes)
+        + " |",
+        "|---|---|" + "---:|" * (len(variants) * len(modes)),
+    ]
+    for category in categories:
+        for res in resistances:
+            values = []
+            for v in variants:
+                for m in modes:
+                    cell = cells.get((v, res, category), {}).get(m)
+                    values.append(_fmt(cell["success"]) if cell else "")
+            lines.append(f"| {category} | {res} | " + " | ".join(values) + " |")
+    lines += [
+        "",
+        "## Fail / Partial / Success per cell",
+        "",
+        "| collision | trained on | category | seeds | "
+        + " | ".join(f"{m} F | P | S" for m in modes)
+        + " |",
+        "|---|---|---|---:|" + "---:|---:|---:|" * len(modes),
+    ]
+    for v in variants:
+        for res in resistances:
+            for category in categories:
+                cell = cells.get((v, res, category))
+                if not cell:
+                    continue
+                seeds = max(c["seeds"] for c in cell.values())
+                values = []
+                for m in modes:
+                    c = cell.get(m)
+                    values += [_fmt(c[o]) for o in OUTCOMES] if c else ["", "", ""]
+                lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+    return lines
+
+
+def strategy_totals(cells: dict, variants, categories) -> dict:
+    """(variant, category or 'all') -> mean strategy fractions over resistances and eval modes."""
+    totals = {}
+    for v in variants:
+        for category in [*categories, "all"]:
+            fractions = [
+                m["strategies"]
+                for (cv, _, cc), modes in cells.items()
+                if cv == v and category in (cc, "all")
+                for m in modes.values()
+                if "strategies" in m
+            ]
+            if fractions:
+                totals[v, category] = {
+                    s: float(np.mean([f[s] for f in fractions])) for s in STRATEGY_COLOURS
+                }
+    return totals
+
+
+def strategy_lines(cells, totals, variants, categories) -> list[str]:
+    lines = [
+        "## Strategies by collision source",
+        "",
+        "Fraction of evaluation episodes per classifier label (realikea/tasks/contacts.py), "
+        "averaged over training resistances, evaluation modes and seeds; friction share and "
+        "front share = mean share of the pull carried by friction and by contacts on the front "
+        "off the part (`front_*` labels) in episodes that pulled.",
+        "",
+        "| collision | category | "
+        + " | ".join(STRATEGY_COLOURS)
+        + " | friction share | front share |",
+        "|---|---|" + "---:|" * (len(STRATEGY_COLOURS) + 2),
+    ]
+
+    def mean_stat(v, category, stat):
+        values = [
+            m[stat]
+            for (cv, _, cc), modes in cells.items()
+            if cv == v and category in (cc, "all")
+            for m in modes.values()
+            if m.get(stat) is not None
+        ]
+        return float(np.mean(values)) if values else None
+
+    for v in variants:
+        for category in [*categories, "all"]:
+            if (v, category) not in totals:
+                continue
+            fractions = " | ".join(_fmt(totals[v, category][s]) for s in STRATEGY_COLOURS)
+            friction = _fmt(mean_stat(v, category, "friction_share"))
+            front = _fmt(mean_stat(v, category, "front_share"))
+            lines.append(f"| {v} | {category} | {fractions} | {friction} | {front} |")
+    return lines
+
+
+def per_run_lines(runs: list[dict], root: Path) -> list[str]:
+    """One row per run: success under each evaluation mode, strategy fractions under its
+    training resistance, and how soon training found a way to open."""
+    lines = [
+        "## Per run",
+        "",
+        "Success under each evaluation mode; strategy fractions under the run's training "
+        "resistance; `form closure of S`: the share of its successful episodes there labelled "
+        "`hook` or `lever`; `to 50 %`: the first iteration from which training success, "
+        "averaged over the next 20 iterations, reaches 50 % (how soon the run found a way to "
+        "open).",
+        "",
+        "| run | "
+        + " | ".join(f"{m} S" for m in MODES)
+        + " | "
+        + " | ".join(STRATEGY_COLOURS)
+        + " | form closure of S | to 50 % |",
+        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 2),
+    ]
+    for run in runs:
+        modes = run["eval"]["modes"]
+        success = [_fmt(modes[m]["success"]) if m in modes else "" for m in MODES]
+        trained = modes.get(run["resistance"]) or {}
+        fractions = [_fmt((trained.get("strategies") or {}).get(s)) for s in STRATEGY_COLOURS]
+        won = trained.get("success_strategies")
+        closure = _fmt(won["hook"] + won["lever"]) if won and trained["success"] > 0 else "–"
+        reached = iterations_to_success(run)
+        row = [*success, *fractions, closure, "–" if reached is None else str(reached)]
+        lines.append(f"| {_rel(run['dir'], root)} | " + " | ".join(row) + " |")
+    return lines
+
+
+def compute_lines(runs: list[dict], root: Path) -> list[str]:
+    lines = [
+        "## Compute",
+        "",
+        "| run | iterations | envs | train (min) | s / iteration | eval (min) |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    total = 0.0
+    for run in runs:
+        seconds = train_seconds(run)
+        total += (seconds or 0.0) + run["eval"].get("eval_seconds", 0.0)
+        per_it = seconds / run["iterations"] if seconds else None
+        eval_min = run["eval"].get("eval_seconds", 0.0) / 60
+        lines.append(
+            f"| {_rel(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
+            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} |"
+        )
+    lines += ["", f"Total compute (sum over runs): {total / 3600:.2f} h."]
+    return lines
+
+
+def _rel(path: Path, root: Path) -> str:
+    return os.path.relpath(Path(path).resolve(), Path(root).resolve())
+
+
+def _save(fig, path: Path) -> None:
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_success(cells, variants, resistances, categories, modes, path: Path) -> None:
+    """Grouped bars per category: x = (trained on, evaluated under), one bar per variant."""
+    fig, axes = plt.subplots(len(categories), 1, figsize=(11, 2.8 * len(categories)), squeeze=False)
+    groups = [(r, m) for r in resistances for m in modes]
+    width = 0.8 / len(variants)
+    for ax, category in zip(axes[:, 0], categories, strict=True):
+        for i, v in enumerate(variants):
+            heights = [
+                cells.get((v, r, category), {}).get(m, {}).get("success", np.nan) for r, m in groups
+            ]
+            ax.bar(
+                np.arange(len(groups)) + (i - (len(variants) - 1) / 2) * width,
+                heights,
+                width,
+                label=v,
+            )
+        ax.set_xticks(np.arange(len(groups)), [f"{r}\n→ {m}" for r, m in groups], fontsize=8)
+        ax.set(ylim=(0, 1.02), ylabel="success", title=category)
+        ax.grid(axis="y", alpha=0.3)
+    axes[0, 0].legend(fontsize=8)
+    axes[-1, 0].set_xlabel("trained on → evaluated under")
+    _save(fig, path)
+
+
+def plot_outcomes(cells, variants, resistances, categories, modes, path: Path) -> None:
+    """Stacked Fail / Partial / Success bars per cell and evaluation mode."""
+    fig, axes = plt.subplots(len(categories), 1, figsize=(11, 2.8 * len(categories)), squeeze=False)
+    columns = [(v, r, m) for v in variants for r in resistances for m in modes]
+    for ax, category in zip(axes[:, 0], categories, strict=True):
+        bottom = np.zeros(len(columns))
+        for o in OUTCOMES:
+            heights = np.array(
+                [cells.get((v, r, category), {}).get(m, {}).get(o, np.nan) for v, r, m in columns]
+            )
+            ax.bar(
+                np.arange(len(columns)),
+                heights,
+                0.8,
+                bottom=bottom,
+                color=OUTCOME_COLOURS[o],
+                label=o,
+            )
+            bottom = bottom + np.nan_to_num(heights)
+        ax.set_xticks(np.arange(len(columns)), [f"{v}\n{r}→{m}" for v, r, m in columns], fontsize=6)
+        ax.set(ylim=(0, 1.02), ylabel="fraction", title=category)
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    _save(fig, path)
+
+
+def plot_strategies(totals, variants, categories, path: Path) -> None:
+    """Stacked strategy fractions: one bar per collision source, a panel per category + all."""
+    panels = [c for c in [*categories, "all"] if any((v, c) in totals for v in variants)]
+    fig, axes = plt.subplots(
+        1,
+        len(panels),
+        figsize=(1.1 * len(variants) * len(panels) + 1, 4.0),
+        squeeze=False,
+        sharey=True,
+    )
+    for ax, category in zip(axes[0], panels, strict=True):
+        bottom = np.zeros(len(variants))
+        for s, colour in STRATEGY_COLOURS.items():
+            heights = np.array([totals.get((v, category), {}).get(s, 0.0) for v in variants])
+            ax.bar(np.arange(len(variants)), heights, 0.7, bottom=bottom, color=colour, label=s)
+            bottom += heights
+        labels = [v.replace(" (", "\n(").replace(", ", ",\n") for v in variants]
+        ax.set_xticks(np.arange(len(variants)), labels, fontsize=7)
+        ax.set(ylim=(0, 1.02), title=category)
+    axes[0, 0].set_ylabel("fraction of episodes")
+    axes[0, -1].legend(fontsize=8, loc="upper right")
+    _save(fig, path)
+
+
+def plot_learning_curves(by_cell, variants, resistances, categories, path: Path) -> None:
+    """Training success fraction against iteration: a panel per (category, training
+    resistance), a colour per collision source, one line per seed."""
+    fig, axes = plt.subplots(
+        len(categories), len(resistances),
+        figsize=(max(6, 4 * len(resistances)), 2.8 * len(categories)),
+        squeeze=False, sharey=True,
+    )  # fmt: skip
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for row, category in enumerate(categories):
+        for col, res in enumerate(resistances):
+            ax = axes[row, col]
+            for i, v in enumerate(variants):
+                for k, run in enumerate(by_cell.get((v, res, category), [])):
+                    its, values = run["metrics"].get("/episode/success", ([], []))
+                    label = v if k == 0 else None
+                    colour = colours[i % len(colours)]
+                    ax.plot(its, values, color=colour, lw=0.8, alpha=0.8, label=label)
+            ax.set(title=f"{category}, trained on {res}", ylim=(-0.02, 1.02))
+            ax.grid(alpha=0.3)
+            if row == len(categories) - 1:
+                ax.set_xlabel("iteration")
+            if col == 0:
+                ax.set_ylabel("training success")
+    legend = {}  # label -> line, over every panel: each source once
+    for ax in axes.flat:
+        handles, labels = ax.get_legend_handles_labels()
+        legend.update(zip(labels, handles, strict=True))
+    axes[0, 0].legend(legend.values(), legend.keys(), fontsize=8)
+    _save(fig, path)
+
+
+def record_videos(runs: list[dict], episodes: int) -> None:
+    """`realikea eval <the run's eval command> video=true episodes=N` under its training
+    resistance: the first of the N episodes with each strategy label."""
+    for run in runs:
+        entry = run["eval"]["modes"].get(run["resistance"]) or next(
+            iter(run["eval"]["modes"].values())
+        )
+        overrides = [o for o in entry["command"].split()[2:] if not o.startswith("episodes=")]
+        stem = run["dir"] / "videos" / "eval.mp4"
+        for old in stem.parent.glob("eval_*"):  # labels of an earlier recording
+            old.unlink()
+        args = [*overrides, f"episodes={episodes}", "video=true", f"video_path={stem}"]
+        run_eval(argparse.Namespace(overrides=[*args, "env.num_workers=0"]))
+        run["strips"] = sorted(stem.parent.glob("*.png"))
+
+
+def typical_strategy(run: dict) -> str | None:
+    """The most frequent strategy label of the run's evaluation under its training resistance."""
+    entry = run["eval"]["modes"].get(run["resistance"]) or {}
+    strategies = entry.get("strategies") or {}
+    return max(strategies, key=strategies.get) if strategies else None
+
+
+def frame_lines(runs: list[dict], out: Path) -> list[str]:
+    """Per run, the four-frame strip of its typical strategy inline and its other strips named."""
+    lines = [
+        "## Frames of the typical strategy per run",
+        "",
+        "Four frames (the scene above a close-up of the handle) of one recorded evaluation "
+        "episode under the run's training resistance with the run's most frequent strategy "
+        "label: the first success with that label, else its first episode. Strips of the other "
+        "labels seen in the recorded episodes are linked. The MP4 beside each strip is "
+        "git-ignored and written again by `--record-videos`.",
+        "",
+    ]
+    recorded = [run for run in runs if run["strips"]]
+    for run in recorded:
+        cell = f"{run['variant']} / {run['category']} / trained on {run['resistance']}"
+        cell += f" / s{run['seed']}"
+        typical = typical_strategy(run)
+        by_label = {s.stem.removeprefix("eval_").rsplit("_", 1)[0]: s for s in run["strips"]}
+        shown = by_label.get(typical)
+        others = [f"[{label}]({_rel(s, out)})" for label, s in by_label.items() if s != shown]
+        lines.append(f"### {cell}")
+        lines.append("")
+        if shown is not None:
+            video = _rel(shown.with_suffix(".mp4"), out)
+            outcome = shown.stem.rsplit("_", 1)[-1]
+            lines += [f"Typical: `{typical}`, an episode ending in {outcome} ([MP4]({video})).", ""]
+            lines += [f"![{cell} {typical}]({_rel(shown, out)})", ""]
+        else:
+            lines += [f"Typical: `{typical}`, not among the recorded episodes.", ""]
+        if others:
+            lines += ["Other labels: " + ", ".join(others) + ".", ""]
+    if not recorded:
+        lines.append(
+            "None recorded: `python experiments/fidelity_ablation/report.py --record-videos` "
+            "writes one MP4 and strip per strategy label into each RUN/videos/."
+        )
+    return lines
+
+
+def report(roots: list[Path], out: Path) -> Path:
+    runs = find_runs(roots)
+    if not runs:
+        raise SystemExit(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
+    cells, by_cell = aggregate(runs)
+    variants = ordered({k[0] for k in cells}, ("coacd", "hull"))
+    resistances = ordered({k[1] for k in cells}, MODES)
+    categories = ordered({k[2] for k in cells}, ("knob", "finger_pull", "two_point"))
+    modes = ordered({m for c in cells.values() for m in c}, MODES)
+    totals = strategy_totals(cells, variants, categories)
+    out.mkdir(parents=True, exist_ok=True)
+    plot_success(cells, variants, resistances, categories, modes, out / "success.png")
+    plot_outcomes(cells, variants, resistances, categories, modes, out / "outcomes.png")
+    plot_strategies(totals, variants, categories, out / "strategies.png")
+    plot_learning_curves(by_cell, variants, resistances, categories, out / "learning_curves.png")
+    presets = sorted({(r["gripper"], r["contact"]) for r in runs})
+    episodes = sorted({r["eval"]["episodes"] for r in runs})
+    root = roots[0] if len(roots) == 1 else Path.cwd()
+    lines = [
+        "# Fidelity ablation",
+        "",
+        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; "
+        f"gripper/contact presets: {', '.join('/'.join(p) for p in presets)}; "
+        f"{'/'.join(map(str, episodes))} evaluation episodes per run and mode "
+        "(`train.eval_after`, the last checkpoint).",
+        "",
+        "![success](success.png)",
+        "",
+        *outcome_tables(cells, variants, resistances, categories, modes),
+        "",
+        "![outcomes](outcomes.png)",
+        "",
+        *strategy_lines(cells, totals, variants, categories),
+        "",
+        "![strategies](strategies.png)",
+        "",
+        "## Learning curves",
+        "",
+        "![learning curves](learning_curves.png)",
+        "",
+        *per_run_lines(runs, root),
+        "",
+        *compute_lines(runs, root),
+    ]
+    lines += ["", *frame_lines(runs, out)]
+    path = out / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path

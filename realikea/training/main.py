@@ -1,0 +1,30 @@
+"""The Hydra entry point of training, shared by `python train.py ...` and `realikea train ...`:
+train PPO on the opening task in the run's Hydra directory, then optionally evaluate it."""
+
+from __future__ import annotations
+
+import time
+
+import hydra
+from hydra.core.hydra_config import HydraConfig
+from omegaconf import DictConfig
+
+from realikea.eval.runs import evaluate_run
+from realikea.files import CONF_DIR
+from realikea.training.train import train
+
+
+@hydra.main(config_path=str(CONF_DIR), config_name="config", version_base="1.3")
+def main(cfg: DictConfig) -> None:
+    """Train in this run's Hydra directory (config, checkpoints, metrics.csv, logs), then
+    optionally evaluate the last checkpoint (`train.eval_after`: eval.json)."""
+    hydra_cfg = HydraConfig.get()
+    begin = time.perf_counter()
+    checkpoint = train(cfg, hydra_cfg.runtime.output_dir)
+    print(f"final checkpoint: {checkpoint}")
+    if cfg.train.get("eval_after"):
+        seconds = time.perf_counter() - begin
+        overrides = list(hydra_cfg.overrides.task)
+        evaluate_run(
+            cfg.train.eval_after, hydra_cfg.runtime.output_dir, checkpoint, overrides, seconds
+        )
