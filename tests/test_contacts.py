@@ -60,7 +60,7 @@ def test_summary_shares_and_means():
 
 def _task(library, part: str, base: str, *extra: str) -> OpenTask:
     overrides = [f"asset.part={part}", f"asset.base={base}", "dr=randomized", "resistance=smooth"]
-    cfg = load_config([*overrides, f"paths.library={library}", "task.contacts.log=true", *extra])
+    cfg = load_config([*overrides, f"paths.library={library}", *extra], "eval")
     (mjcf,) = training_configurations(cfg, 1)
     return OpenTask(cfg, mjcf, seed=3)
 
@@ -121,7 +121,7 @@ def test_a_pinch_pull_is_classified_pinch(library):
 def test_logging_contacts_does_not_change_the_physics(library):
     trajectories = []
     for log in ("true", "false"):
-        task = _task(library, "tp_round_bar_128", "drawer_w60_h20", f"task.contacts.log={log}")
+        task = _task(library, "tp_round_bar_128", "drawer_w60_h20", f"contacts.log={log}")
         rng = np.random.default_rng(0)
         task.reset()
         states = [task.step(rng.uniform(-1, 1, 5)).obs for _ in range(10)]

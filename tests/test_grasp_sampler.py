@@ -206,12 +206,12 @@ def test_a_sampled_grasp_opens_a_smooth_two_point_drawer(library):
         "policy=grasp_sampler",
         "policy.samples=1500",
         "policy.clearance_points=6000",
-        "task.contacts.log=true",
+        "contacts.log=true",
         "env.num_envs=1",
         "env.num_workers=0",
         "logger=none",
     ]
-    cfg = load_config(overrides)
+    cfg = load_config(overrides, "eval")
     policy = make_policy(cfg)
     with EnvPool.from_config(cfg) as pool:
         result = run_episodes(pool, policy, 1, progress=False)

@@ -158,9 +158,10 @@ def test_an_imported_handle_opens_a_drawer_and_a_door_in_high(
         cfg = load_config(
             [
                 f"policy={policy}", "asset.part=my_bar", f"asset.base={base}", "resistance=high",
-                "dr=fixed", "task.contacts.log=true", "env.num_envs=1", "env.num_workers=0",
+                "dr=fixed", "contacts.log=true", "env.num_envs=1", "env.num_workers=0",
                 f"paths.library={tmp_path / 'library'}",
-            ]
+            ],
+            "eval",
         )  # fmt: skip
         with EnvPool.from_config(cfg) as pool:
             episodes = run_episodes(pool, make_policy(cfg), 1, progress=False).episodes

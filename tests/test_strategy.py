@@ -33,11 +33,12 @@ def _episodes(policy: str, part: str, base: str, n: int, *extra: str) -> list[di
             f"asset.part={part}",
             f"asset.base={base}",
             "dr=randomized",
-            "task.contacts.log=true",
+            "contacts.log=true",
             "env.num_envs=2",
             "env.num_workers=0",
             *extra,
-        ]
+        ],
+        "eval",
     )
     with EnvPool.from_config(cfg) as pool:
         return run_episodes(pool, make_policy(cfg), n, progress=False).episodes

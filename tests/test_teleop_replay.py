@@ -100,8 +100,7 @@ def library(tmp_path_factory):
 def record(library, path, episodes=2, cut_at=None):
     """Episodes of the heuristic pull on one task, recorded through the teleop's recorder."""
     overrides = [*RECORDED, f"paths.library={library}"]
-    cfg = load_config(overrides)
-    cfg.task.contacts.log = True
+    cfg = load_config(overrides, "eval")
     seed = int(cfg.env.seed)
     (mjcf,) = training_configurations(cfg, 1, seed)
     task = OpenTask(cfg, mjcf, seed)
@@ -148,7 +147,7 @@ def test_demonstration_file_holds_what_replay_needs(demo_file):
 def _replay_config(policy, library, extra=()):
     cfg = load_config(["policy=replay", f"paths.library={library}", *extra], "eval")
     cfg = policy.configure(cfg, ["policy=replay", *extra])
-    cfg.task.contacts.log = True
+    cfg.contacts.log = True
     return cfg
 
 

@@ -18,7 +18,7 @@ from realikea.tasks.open_task import OpenTask
 
 def test_one_video_and_strip_per_strategy(tmp_path):
     overrides = ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", "dr=fixed"]
-    cfg = load_config([*overrides, "task.contacts.log=true", "task.episode_seconds=8"])
+    cfg = load_config([*overrides, "task.episode_seconds=8"], "eval")
     (mjcf,) = training_configurations(cfg, 1)
     written = record_strategies([OpenTask(cfg, mjcf)], HeuristicPull(), 2, tmp_path / "demo.mp4")
     assert list(written) == ["pinch"]  # both episodes pinch: the second adds no file

@@ -22,8 +22,6 @@ def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str])
     for group in RUN_GROUPS:
         if group in run_cfg and not overrides_set(overrides, group):
             merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
-    # the strategy classifier belongs to the evaluation, not to the run
-    merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
     return OmegaConf.create(merged)
 
 
@@ -35,8 +33,8 @@ def eval_overrides_with_split(overrides: list[str]) -> list[str]:
 
 def eval_setup(overrides: list[str]):
     """(cfg, policy) of `realikea eval OVERRIDES`: the composed config with a checkpoint's own
-    run groups (`effective_config`) or a policy's own configuration, contacts logged; the test
-    split unless the overrides name one (`eval_overrides_with_split`)."""
+    run groups (`effective_config`) or a policy's own configuration, the classifier on
+    (eval.yaml: contacts); the test split unless the overrides name one."""
     cfg = load_config(eval_overrides_with_split(overrides), "eval")
     policy = make_policy(cfg)
     if hasattr(policy, "run_interactive") and not overrides_set(overrides, "asset.split"):
@@ -45,7 +43,6 @@ def eval_setup(overrides: list[str]):
         cfg = effective_config(cfg, policy.run_cfg, overrides)
     if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
         cfg = policy.configure(cfg, overrides)
-    cfg.task.contacts.log = True  # the strategy classifier needs the contact forces
     return cfg, policy
 
 

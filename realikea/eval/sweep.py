@@ -92,7 +92,7 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
     for mode in MODES:
         cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"], "eval")
         cfg = effective_config(cfg, run_cfg, rest)
-        cfg.task.contacts.log = False
+        cfg.contacts.log = False
         episodes = int(cfg.episodes)
         cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
         with EnvPool.from_config(cfg) as pool:

@@ -45,7 +45,6 @@ def cell_config(overrides: list[str], policy: str, category: str, resistance: st
         "eval",
     )
     cfg.asset.kind = cfg.table.kind
-    cfg.task.contacts.log = True
     return cfg
 
 

@@ -75,7 +75,6 @@ class ReplayPolicy(PerEnvPolicy):
         for group in RECORDED_GROUPS:
             if group in rec and not overrides_set(overrides, group):
                 merged[group] = OmegaConf.to_container(rec[group], resolve=True)
-        merged["task"]["contacts"] = OmegaConf.to_container(cfg.task.contacts, resolve=True)
         merged["asset"] = {
             "category": meta.get("category", rec.asset.category),
             "part": meta["part"],

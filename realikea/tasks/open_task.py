@@ -141,14 +141,15 @@ class OpenTask:
         self._nominal_handle = np.zeros(3)
         self._t1, self._t2 = self.o1, self.o2
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
-        contacts = task.contacts
-        self.classifier = ClassifierParams(
-            **{k: v for k, v in OmegaConf.to_container(contacts).items() if k != "log"}
-        )
-        gripper_bodies = [m.body(b).id for b in (HAND_BODY, *FINGER_BODIES)]
-        self.contact_monitor = (
-            ContactMonitor(m, gripper_bodies, parts, panel) if bool(contacts.log) else None
-        )
+        # the strategy classifier: evaluation's `contacts` settings (realikea/conf/eval.yaml)
+        contacts = cfg.get("contacts")
+        self.classifier = self.contact_monitor = None
+        if contacts is not None and bool(contacts.log):
+            self.classifier = ClassifierParams(
+                **{k: v for k, v in OmegaConf.to_container(contacts).items() if k != "log"}
+            )
+            gripper_bodies = [m.body(b).id for b in (HAND_BODY, *FINGER_BODIES)]
+            self.contact_monitor = ContactMonitor(m, gripper_bodies, parts, panel)
 
     # --- reading the scene ----------------------------------------------------------------
     @property
