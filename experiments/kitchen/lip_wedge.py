@@ -14,9 +14,9 @@ the hook's bearing; under 2 mm (MIN_ROOM) a pad rolls off (catch_geometry's meas
 """
 
 import argparse
-import csv
 import math
 
+from realikea.assets.catalog import Catalog
 from realikea.config import load_config
 from realikea.files import repo_path
 from realikea.policies.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
@@ -35,14 +35,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--split", default="test", choices=("train", "test", "all"))
     args = parser.parse_args()
-    with repo_path("realikea/catalog/split.csv").open() as f:
-        parts = [r["part"] for r in csv.DictReader(f) if args.split in ("all", r["split"])]
+    catalog = Catalog.load()
+    parts = [p.id for p in catalog.parts_of_split(catalog.parts_in("finger_pull"), args.split)]
     library = repo_path(load_config([]).paths.library)
     clearance = OracleParams().clearance
     print(f"split {args.split}; bearing (mm) of the pad behind the lip at hand pitch p (rad)")
     print("| part | channel (mm) | drop (mm) | " + " | ".join(f"p={p}" for p in PITCHES) + " |")
     print("|---|---:|---:|" + "---:|" * len(PITCHES))
-    for part in (p for p in parts if p.startswith("fp_")):
+    for part in parts:
         mesh = next(library.glob(f"{part}__drawer*/meshes/visual.obj"), None)
         if mesh is None:
             raise SystemExit(f"{part}: not built; run `realikea assets build --all` first")
