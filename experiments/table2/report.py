@@ -19,9 +19,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from omegaconf import OmegaConf  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
+from realikea.files import CONF_DIR  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
 MODES = ("smooth", "normal", "high")
 CATEGORIES = ("knob", "finger_pull", "two_point")
 KINDS = ("drawer", "door")
@@ -59,7 +59,7 @@ def cell(rows, policy, category, mode) -> dict | None:
 
 def resistance_pull(mode: str, speed: float = 0.1) -> float:
     """N the front's joint resists with at `speed` m/s: friction loss + damping x speed."""
-    r = OmegaConf.load(REPO / "realikea" / "conf" / "resistance" / f"{mode}.yaml")
+    r = OmegaConf.load(CONF_DIR / "resistance" / f"{mode}.yaml")
     return float(r.frictionloss) + float(r.damping) * speed
 
 
