@@ -61,7 +61,7 @@ def alive(pid: int) -> bool:
 
 
 def test_observation_layout(paths):
-    assert observations.SIZE == 28
+    assert observations.SIZE == 40
     assert sum(n for _, n in observations.LAYOUT) == observations.SIZE
     with EnvPool(config("dr=fixed"), paths[:2], num_workers=0) as pool:
         assert pool.obs.shape == (2, observations.SIZE) and pool.obs.dtype == np.float64

@@ -39,9 +39,14 @@ def test_observation_layout(drawer):
     cfg, mjcf = drawer
     task = OpenTask(cfg, mjcf)
     obs = task.reset()
-    assert obs.shape == (observations.SIZE,) == (28,)
+    assert obs.shape == (observations.SIZE,) == (40,)
     s = observations.slices()
     assert obs[s["stage"]].tolist() == [1, 0, 0, 0]
+    assert obs[s["joint_type"]].tolist() == [1.0, 0.0]  # a drawer slides
+    assert obs[s["category"]].tolist() == [0.0, 1.0, 0.0]  # two_point
+    # a drawer's handle moves towards the robot (+x) along the slide, and has not moved yet
+    np.testing.assert_allclose(obs[s["pull_dir"]], obs[s["joint_axis"]], atol=1e-9)
+    assert obs[s["pull_dir"]][0] > 0.99 and obs[s["progress"]][0] == 0.0
     assert obs[s["opening"]][0] == 0.0 and obs[s["aperture"]][0] == pytest.approx(1.0)
     assert task.horizon == 120 and task.joint_type == "slide"
 
@@ -90,7 +95,7 @@ def test_commanded_motion_moves_the_tcp(drawer):
 def test_observation_terms_have_their_declared_sizes():
     v = observations.ObservationInputs(
         [0.1, 0.2, 0.3], np.eye(3).tolist(), [0.4, 0.5, 0.6], [0.0, 0.0, 0.0],
-        0.01, 0.0, 0.5, False, [0.0] * 5, 2,
+        0.01, 0.0, 0.5, False, [0.0] * 5, 2, True, [0, 0, 1.0], [1.0, 0, 0], 0.1, 2,
     )  # fmt: skip
     for name, size, term in observations.TERMS:
         assert len(term(v)) == size, name

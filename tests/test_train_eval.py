@@ -7,6 +7,7 @@ import shutil
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 import torch
 
@@ -129,10 +130,15 @@ def test_checkpoint_from_another_observation_layout(run, tmp_path, capsys):
     other = tmp_path / "run"
     shutil.copytree(run_dir, other)
     saved = torch.load(other / "model_1.pt", weights_only=False)
+    saved["infos"]["observation_layout"] = [["tcp_pos", 3], ["gripper_width", 1]]
+    torch.save(saved, other / "model_1.pt")
+    assert main(["eval", f"policy.path={other / 'model_1.pt'}"]) == 2
+    assert "an observation layout this code cannot give" in capsys.readouterr().err
+    # terms this code has, but not the ones the actor's weights were trained on
     saved["infos"]["observation_layout"] = [["tcp_pos", 3], ["opening", 1]]
     torch.save(saved, other / "model_1.pt")
     assert main(["eval", f"policy.path={other / 'model_1.pt'}"]) == 2
-    assert "trained on observation layout" in capsys.readouterr().err
+    assert "actor does not match the run's network" in capsys.readouterr().err
 
 
 def test_resume_continues_from_the_checkpoint(run, tmp_path):
@@ -217,3 +223,40 @@ def test_realikea_train_composes_what_train_py_composes():
     ]
     assert all(out.returncode == 0 for out in outputs), [o.stderr[-2000:] for o in outputs]
     assert outputs[0].stdout == outputs[1].stdout and "category: knob" in outputs[0].stdout
+
+
+def test_a_generalist_trains_two_iterations_on_a_mixed_draw_of_kinds(tmp_path):
+    """asset=all draws by turns over category x kind: one part on a drawer, a door and the flap."""
+    args = ["asset.part=tp_round_bar_128", "dr=fixed", "env.num_envs=3", "env.num_workers=0"]
+    args += ["task.episode_seconds=1.5", "logger=none", "agent.max_iterations=2"]
+    args += ["agent.num_steps_per_env=8", f"paths.library={tmp_path / 'library'}"]
+    args += [f"hydra.run.dir={tmp_path / 'run'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-3000:]
+    built = sorted(
+        p.name.split("__")[1].split("_")[0] for p in (tmp_path / "library").iterdir() if p.is_dir()
+    )
+    assert built == ["door", "drawer", "flap"]
+    assert (tmp_path / "run" / "model_1.pt").is_file()
+    tags = {row.split(",")[1] for row in (tmp_path / "run" / "metrics.csv").read_text().split()}
+    # the 15-step episodes end in the second iteration: success is logged per category x kind
+    assert {f"/success/two_point_{k}" for k in ("door", "drawer", "flap")} <= tags
+
+
+def test_a_checkpoint_of_the_appendix_layout_reads_its_terms_from_todays_observation():
+    """Checkpoints before the articulation terms (28-D) still act, on their own terms."""
+    path = WORKSPACE / "experiments/learning/two_point_drawer_smooth_coacd/model_999.pt"
+    policy = CheckpointPolicy(path)
+    assert policy.index.tolist() == list(range(28))
+    obs = np.random.default_rng(0).normal(size=(3, observations.SIZE))
+    changed = obs.copy()
+    changed[:, 28:] += 1.0  # the terms it was not trained on do not reach it
+    np.testing.assert_array_equal(policy.act(obs), policy.act(changed))
+    assert policy.act(obs).shape == (3, 5)
+
+
+def test_a_layout_with_an_unknown_term_is_refused_by_name():
+    with pytest.raises(KeyError, match="'gripper_width' of size 1"):
+        observations.selector([("tcp_pos", 3), ("gripper_width", 1)])

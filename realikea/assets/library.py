@@ -25,6 +25,17 @@ def read_index(library: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(f))
 
 
+STRATA = {"category": lambda c: c.part.category, "kind": lambda c: c.base.kind}
+
+
+def _stratum(configuration, keys) -> tuple:
+    """The configuration's group under `asset.stratify` (names from STRATA)."""
+    unknown = [k for k in keys if k not in STRATA]
+    if unknown:
+        raise RealIkeaError(f"asset.stratify: unknown key(s) {unknown}; use {sorted(STRATA)}")
+    return tuple(STRATA[k](configuration) for k in keys)
+
+
 def load_model(
     mjcf: Path, damping: float | None = None, frictionloss: float | None = None
 ) -> mujoco.MjModel:
@@ -45,8 +56,11 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
 
     Configurations are drawn without replacement (cycling when n exceeds the category) in a
     seeded order, for the collision source of `cfg.collision`, from the parts of `asset.split`
-    (train, test or all; all for a config written before the split existed). Every consumer
-    (training pool, evaluation, table, video) draws through here.
+    (train, test or all; all for a config written before the split existed). With
+    `asset.stratify` (e.g. [category, kind]) the draw takes its groups in turn, so each
+    category × kind gets about n / groups configurations however few the catalog has (one
+    flap base among thirteen); with one group it is the plain draw. Every consumer (training
+    pool, evaluation, table, video) draws through here.
     """
     catalog = Catalog.load()
     asset = cfg.asset
@@ -55,8 +69,20 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
             asset.category, asset.part, asset.base, asset.get("kind"), asset.get("split", "all")
         )
     )
+    if not candidates:
+        raise RealIkeaError(
+            f"no configuration matches asset.category={asset.category} part={asset.part} "
+            f"base={asset.base} kind={asset.get('kind')} split={asset.get('split', 'all')}"
+        )
     order = np.random.default_rng(seed).permutation(len(candidates))
-    chosen = [candidates[order[i % len(candidates)]] for i in range(n)]
+    groups: dict[tuple, list] = {}  # in the order the seeded permutation meets them
+    for k in order:
+        groups.setdefault(_stratum(candidates[k], asset.get("stratify") or ()), []).append(k)
+    turns = list(groups.values())
+    chosen = [
+        candidates[turns[i % len(turns)][(i // len(turns)) % len(turns[i % len(turns)])]]
+        for i in range(n)
+    ]
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
     build_library(  # a no-op for configurations that are already current

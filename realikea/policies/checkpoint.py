@@ -47,9 +47,9 @@ def _infos(saved: dict) -> dict:
     return saved.get("infos") or {}
 
 
-def check_layout(checkpoint: Path, saved: dict) -> None:
-    """Refuse a checkpoint trained on another observation layout (the layout it carries, or the
-    side file of an older run)."""
+def saved_layout(checkpoint: Path, saved: dict) -> list[tuple[str, int]]:
+    """The observation layout a checkpoint was trained on: the one it carries, or the side file
+    of an older run."""
     stored = _infos(saved).get("observation_layout")
     if stored is None:
         layout_file = Path(checkpoint).parent / LAYOUT_FILE
@@ -59,7 +59,12 @@ def check_layout(checkpoint: Path, saved: dict) -> None:
                 "it; not a Real-IKEA run"
             )
         stored = json.loads(layout_file.read_text())
-    stored = [tuple(item) for item in stored]
+    return [(str(name), int(size)) for name, size in stored]
+
+
+def check_layout(checkpoint: Path, saved: dict) -> None:
+    """Refuse to resume training from a checkpoint trained on another observation layout."""
+    stored = saved_layout(checkpoint, saved)
     if stored != list(observations.LAYOUT):
         raise RealIkeaError(
             f"{checkpoint}: trained on observation layout {stored}, this code uses "
@@ -80,18 +85,25 @@ def run_config(checkpoint: Path, saved: dict | None = None) -> DictConfig:
 
 
 class CheckpointPolicy:
-    """The actor MLP of a checkpoint; `act` maps observations (N, 28) to actions (N, 5)."""
+    """The actor MLP of a checkpoint; `act` maps observations (N, observations.SIZE) to actions
+    (N, 5), reading the terms of the layout the checkpoint was trained on."""
 
     name = "checkpoint"
 
     def __init__(self, path: Path):
         path = Path(path)
         saved = load_saved(path)
-        check_layout(path, saved)
+        layout = saved_layout(path, saved)
+        try:
+            self.index = observations.selector(layout)
+        except KeyError as err:
+            raise RealIkeaError(
+                f"{path}: trained on an observation layout this code cannot give: {err.args[0]}"
+            ) from err
         self.run_cfg = run_config(path, saved)
         agent = self.run_cfg.agent
         state = saved["actor_state_dict"]
-        dummy = TensorDict({"policy": torch.zeros(1, observations.SIZE)}, batch_size=[1])
+        dummy = TensorDict({"policy": torch.zeros(1, len(self.index))}, batch_size=[1])
         self.actor = MLPModel(
             dummy,
             {"actor": ["policy"]},
@@ -120,6 +132,6 @@ class CheckpointPolicy:
 
     @torch.inference_mode()
     def act(self, obs: np.ndarray) -> np.ndarray:
-        batch = torch.as_tensor(obs, dtype=torch.float32)
+        batch = torch.as_tensor(np.asarray(obs)[:, self.index], dtype=torch.float32)
         td = TensorDict({"policy": batch}, batch_size=[batch.shape[0]])
         return self.actor(td).numpy().astype(np.float64)

@@ -101,7 +101,8 @@ class RslRlVecEnv(VecEnv):
     def _log(self, episodes: list[dict]) -> dict[str, float | torch.Tensor]:
         """Per-episode values (rsl-rl averages them over the iteration): outcome indicators, each
         reward term's episode sum (`/episode_reward/<term>`), termination indicators
-        (`/termination/<name>`); and the pool's counters."""
+        (`/termination/<name>`), success per category and kind (`/success/<category>_<kind>`,
+        over the iteration's episodes of that group); and the pool's counters."""
         log: dict[str, float | torch.Tensor] = {}
         if episodes:
             names = [e["termination"] for e in episodes]
@@ -118,6 +119,12 @@ class RslRlVecEnv(VecEnv):
             openings = [e["opening"] for e in finished if math.isfinite(e["opening"])]
             if openings:
                 log["/episode/opening"] = torch.tensor(openings, dtype=torch.float32)
+            groups: dict[str, list[float]] = {}
+            for e in finished:
+                if "category" in e:
+                    group = groups.setdefault(f"/success/{e['category']}_{e['kind']}", [])
+                    group.append(float(e["outcome"] == "success"))
+            log.update({name: torch.tensor(values) for name, values in sorted(groups.items())})
         for name, value in self.pool.counters.items():
             log[f"/pool/{name}"] = float(value)
         return log

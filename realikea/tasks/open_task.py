@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.catalog import Catalog
+from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY, GripperModel
@@ -86,7 +86,9 @@ class OpenTask:
     observation_size = observations.SIZE
     action_size = ACTION_SIZE
     # what an episode's record in the env pool keeps of the final info
-    episode_keys = ("outcome", "termination", "opening", "reward_terms", *SUMMARY_KEYS)
+    episode_keys = (
+        "outcome", "termination", "opening", "reward_terms", "category", "kind", *SUMMARY_KEYS
+    )  # fmt: skip
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         task = cfg.task
@@ -130,7 +132,14 @@ class OpenTask:
         self._grip_act = m.actuator(GRIPPER_ACTUATOR).id
         front = m.joint(FRONT_JOINT)
         self.joint_type = "slide" if front.type[0] == mujoco.mjtJoint.mjJNT_SLIDE else "hinge"
-        self._front_q, self._front_v = m.jnt_qposadr[front.id], m.jnt_dofadr[front.id]
+        self._front, self._front_q, self._front_v = (
+            front.id,
+            m.jnt_qposadr[front.id],
+            m.jnt_dofadr[front.id],
+        )
+        self._success = float(task.outcome.success[self.joint_type])
+        self._category = CATEGORIES.index(self.part.category)
+        self._jac = np.zeros((3, m.nv))
         self._tcp, self._handle = m.site(TCP_SITE).id, m.site(HANDLE_SITE).id
         self._base = m.body("link0").id
         self._part = m.body(PART_BODY).id
@@ -170,9 +179,8 @@ class OpenTask:
 
     def pull_direction(self) -> np.ndarray:
         """Unit world direction the handle moves in as the front opens (the joint's Jacobian)."""
-        jac = np.zeros((3, self.model.nv))
-        mujoco.mj_jacSite(self.model, self.data, jac, None, self._handle)
-        u = jac[:, self._front_v]
+        mujoco.mj_jacSite(self.model, self.data, self._jac, None, self._handle)
+        u = self._jac[:, self._front_v]
         return u / np.linalg.norm(u)
 
     def facts(self) -> SceneFacts:
@@ -203,19 +211,24 @@ class OpenTask:
 
     def observe(self) -> np.ndarray:
         d = self.data
-        aperture = self.aperture
+        aperture, opening = self.aperture, self.opening
         return observations.observation(
             observations.ObservationInputs(
                 d.site_xpos[self._tcp].tolist(),
                 d.site_xmat[self._tcp].reshape(3, 3).tolist(),
                 d.site_xpos[self._handle].tolist(),
                 d.xpos[self._base].tolist(),
-                self.opening,
+                opening,
                 float(d.qvel[self._front_v]),
                 aperture,
                 aperture < self.params.close_below,
                 self.state.prev_action.tolist(),
                 self.state.stage,
+                self.joint_type == "hinge",
+                d.xaxis[self._front].tolist(),
+                self.pull_direction().tolist(),
+                opening / self._success,
+                self._category,
             )
         )
 
@@ -314,6 +327,7 @@ class OpenTask:
             info["outcome"] = str(outcome(opening, self.joint_type, self.outcome_thresholds))
             info["termination"] = ended or TIMEOUT
             info["reward_terms"] = dict(s.term_sums)
+            info["category"], info["kind"] = self.part.category, self.base.kind
             if self.contact_monitor is not None:
                 period = self.classifier.sample_substeps * self.model.opt.timestep
                 info.update(s.contacts.summary(self.part.category, self.classifier, period))
