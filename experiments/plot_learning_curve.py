@@ -1,4 +1,6 @@
-"""Learning curve of a training run from its metrics.csv: outcome fractions, opening, reward.
+"""Learning curve of a training run from its metrics.csv: outcome fractions, opening, reward,
+and (runs over several categories or kinds) success per category x kind, averaged over 25
+iterations.
 
 python experiments/plot_learning_curve.py RUN_DIR [--out FILE]
 """
@@ -9,6 +11,7 @@ import argparse
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -22,7 +25,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="PNG (default: RUN_DIR/learning_curve.png)")
     args = parser.parse_args()
     series = read_metrics(args.run_dir)
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    groups = sorted(tag for tag in series if tag.startswith("/success/"))
+    fig, axes = plt.subplots(1, 4 if groups else 3, figsize=(20 if groups else 15, 4))
     for name, colour in (("success", "tab:green"), ("partial", "tab:orange"), ("fail", "tab:red")):
         its, values = series.get(f"/episode/{name}", ([], []))
         axes[0].plot(its, values, color=colour, label=name)
@@ -34,6 +38,16 @@ def main() -> None:
     its, values = series.get("Train/mean_reward", ([], []))
     axes[2].plot(its, values)
     axes[2].set(title="mean episode return", xlabel="iteration")
+    for tag in groups:
+        its, values = series[tag]
+        window = min(25, len(values))
+        smooth = np.convolve(values, np.ones(window) / window, mode="valid")
+        axes[3].plot(its[window - 1 :], smooth, label=tag.removeprefix("/success/"))
+    if groups:
+        axes[3].set(
+            title="success per category x kind (25-iteration mean)", xlabel="iteration", ylim=(0, 1)
+        )
+        axes[3].legend(fontsize=7)
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()

@@ -16,6 +16,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.reports.generalist import evaluate_grid, grid_markdown, read_cells
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 
@@ -260,3 +261,19 @@ def test_a_checkpoint_of_the_appendix_layout_reads_its_terms_from_todays_observa
 def test_a_layout_with_an_unknown_term_is_refused_by_name():
     with pytest.raises(KeyError, match="'gripper_width' of size 1"):
         observations.selector([("tcp_pos", 3), ("gripper_width", 1)])
+
+
+def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp_path):
+    run_dir, library = run
+    results = tmp_path / "cells.jsonl"
+    pin = ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", f"paths.library={library}"]
+    cell = {"kinds": ("drawer",), "categories": ("two_point",), "modes": ("smooth",)}
+    cells = evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
+    record = cells[("drawer", "two_point", "smooth")]
+    assert record["episodes"] == 2 and record["scene"] == "kitchen"
+    assert record["split"] == "train"  # the pinned part's own split
+    assert "asset.split=test" in record["command"] and "env.seed=1000" in record["command"]
+    evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
+    assert len(results.read_text().splitlines()) == 1
+    table = grid_markdown(read_cells(results))
+    assert "| drawer | two_point |" in table and "[" in table

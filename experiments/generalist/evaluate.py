@@ -1,0 +1,30 @@
+"""Evaluate a checkpoint on the held-out parts over kind x category x resistance mode.
+
+    python experiments/generalist/evaluate.py CHECKPOINT NAME [--episodes 50] [--seed 1000]
+
+Appends one JSON line per cell to experiments/generalist/NAME/cells.jsonl (cells already there
+are skipped, so an interrupted grid continues); `report.py` makes the tables from them.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from realikea.reports.generalist import evaluate_grid
+
+HERE = Path(__file__).resolve().parent
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("checkpoint", type=Path)
+    parser.add_argument("name", help="results folder under experiments/generalist/")
+    parser.add_argument("--episodes", type=int, default=50)
+    parser.add_argument("--seed", type=int, default=1000, help="env.seed of the draw")
+    args = parser.parse_args()
+    evaluate_grid(args.checkpoint, HERE / args.name / "cells.jsonl", args.episodes, args.seed)
+
+
+if __name__ == "__main__":
+    main()
