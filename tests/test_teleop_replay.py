@@ -23,6 +23,7 @@ from realikea.policies.heuristic_pull import HeuristicPull
 from realikea.policies.replay import ReplayPolicy
 from realikea.policies.teleop import TeleopState, next_action, press
 from realikea.pool.env_pool import EnvPool
+from realikea.tasks import observations
 from realikea.tasks.open_task import OpenTask
 
 PIN = ["asset=two_point", "asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20"]
@@ -140,7 +141,7 @@ def test_demonstration_file_holds_what_replay_needs(demo_file):
     assert len(demo.episodes) == 2
     for got, want in zip(demo.episodes, recorded.episodes, strict=True):
         assert np.array_equal(got.actions, want.actions)
-        assert got.observations.shape == (got.steps + 1, 28) and got.summary["complete"]
+        assert got.observations.shape == (got.steps + 1, observations.SIZE) and got.summary["complete"]
     assert not list(path.parent.glob(".*.tmp"))  # the atomic write left no temporary file
 
 
@@ -224,10 +225,11 @@ def _replay_no_path(capsys):
 def test_another_task_layout_is_refused(demo_file, tmp_path, capsys):
     path, _ = demo_file
     demo = load_demonstration(path)
-    layout = dict(demo.metadata, observation_layout=[["tcp_pos", 3], ["opening", 1]])
+    layout = dict(demo.metadata, observation_layout=[["tcp_pos", 3], ["gripper_width", 1]])
     save_demonstration(type(demo)(demo.episodes, layout), tmp_path / "layout.npz")
     err = _replay(tmp_path / "layout.npz", capsys)
     assert f"{tmp_path / 'layout.npz'}: recorded with observation layout" in err
+    assert "'gripper_width' of size 1" in err
     actions = dict(demo.metadata, action_size=7)
     save_demonstration(type(demo)(demo.episodes, actions), tmp_path / "actions.npz")
     assert "recorded with 7-D actions" in _replay(tmp_path / "actions.npz", capsys)
@@ -236,3 +238,17 @@ def test_another_task_layout_is_refused(demo_file, tmp_path, capsys):
     save_demonstration(type(demo)(demo.episodes, demo.metadata), tmp_path / "shape.npz")
     with pytest.raises(RealIkeaError, match="shape.npz: episode 0 has actions"):
         load_demonstration(tmp_path / "shape.npz")
+
+
+def test_a_demonstration_of_the_appendix_layout_still_loads(demo_file, tmp_path):
+    """Recorded before the articulation terms: its 28-D observations, its actions replayable."""
+    path, _ = demo_file
+    demo = load_demonstration(path)
+    appendix = observations.selector(observations.APPENDIX_LAYOUT)
+    for episode in demo.episodes:
+        episode.observations = episode.observations[:, appendix]
+    old = dict(demo.metadata, observation_layout=[list(t) for t in observations.APPENDIX_LAYOUT])
+    save_demonstration(type(demo)(demo.episodes, old), tmp_path / "old.npz")
+    loaded = load_demonstration(tmp_path / "old.npz")
+    assert loaded.episodes[0].observations.shape[1] == 28
+    np.testing.assert_array_equal(loaded.episodes[0].actions, demo.episodes[0].actions)

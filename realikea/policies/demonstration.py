@@ -41,7 +41,7 @@ class Episode:
     """One recorded episode; `complete` is False when the operator cut it short."""
 
     actions: np.ndarray  # (T, ACTION_SIZE)
-    observations: np.ndarray  # (T + 1, observations.SIZE)
+    observations: np.ndarray  # (T + 1, the size of the layout it was recorded with)
     rewards: np.ndarray  # (T,)
     summary: dict = field(default_factory=dict)
 
@@ -181,12 +181,15 @@ def load_demonstration(path: Path) -> Demonstration:
         raise RealIkeaError(f"{path}: not a Real-IKEA demonstration (no {FORMAT!r} metadata)")
     if meta.get("version") != VERSION:
         raise RealIkeaError(f"{path}: demonstration format {meta.get('version')}, need {VERSION}")
-    layout = [tuple(item) for item in meta.get("observation_layout") or []]
-    if layout != list(observations.LAYOUT):
+    layout = [(str(name), int(size)) for name, size in meta.get("observation_layout") or []]
+    try:  # an older layout (the appendix's terms only) replays: its actions are the demonstration
+        observations.selector(layout)
+    except KeyError as err:
         raise RealIkeaError(
-            f"{path}: recorded with observation layout {layout}, this code uses "
-            f"{list(observations.LAYOUT)}"
-        )
+            f"{path}: recorded with observation layout {layout}, which this code cannot give "
+            f"({err.args[0]})"
+        ) from err
+    obs_size = sum(size for _, size in layout)
     if meta.get("action_size") != ACTION_SIZE:
         raise RealIkeaError(
             f"{path}: recorded with {meta.get('action_size')}-D actions, this task takes "
@@ -206,12 +209,13 @@ def load_demonstration(path: Path) -> Demonstration:
         steps = len(actions)
         if (
             actions.shape != (steps, ACTION_SIZE)
-            or obs.shape != (steps + 1, observations.SIZE)
+            or obs.shape != (steps + 1, obs_size)
             or rewards.shape != (steps,)
         ):
             raise RealIkeaError(
                 f"{path}: episode {k} has actions {actions.shape}, observations {obs.shape}; "
-                f"this task takes {ACTION_SIZE}-D actions and {observations.SIZE}-D observations"
+                f"this task takes {ACTION_SIZE}-D actions and {obs_size}-D observations "
+                "(its recorded layout)"
             )
         if not np.all(np.isfinite(actions)):
             raise RealIkeaError(f"{path}: episode {k} holds non-finite actions")
