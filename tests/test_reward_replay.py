@@ -24,7 +24,9 @@ REFERENCE = Path(__file__).parent / "data" / "reference_episode.npz"
 
 def test_replayed_episode_gives_the_recorded_rewards_bit_for_bit(tmp_path):
     ref = np.load(REFERENCE)
-    cfg = load_config([*ref["overrides"].tolist(), f"paths.library={tmp_path}"])
+    # recorded with the appendix's w_open2 = 0 (the default since is 2.0: realikea/conf/task)
+    overrides = [*ref["overrides"].tolist(), "task.reward.w_open2=0.0"]
+    cfg = load_config([*overrides, f"paths.library={tmp_path}"])
     task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
     recorded_obs = [task.reset()]
     rewards, result = [], None
