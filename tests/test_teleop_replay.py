@@ -141,7 +141,8 @@ def test_demonstration_file_holds_what_replay_needs(demo_file):
     assert len(demo.episodes) == 2
     for got, want in zip(demo.episodes, recorded.episodes, strict=True):
         assert np.array_equal(got.actions, want.actions)
-        assert got.observations.shape == (got.steps + 1, observations.SIZE) and got.summary["complete"]
+        assert got.observations.shape == (got.steps + 1, observations.SIZE)
+        assert got.summary["complete"]
     assert not list(path.parent.glob(".*.tmp"))  # the atomic write left no temporary file
 
 

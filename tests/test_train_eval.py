@@ -15,7 +15,7 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.files import WORKSPACE
-from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.reports.generalist import evaluate_grid, grid_markdown, read_cells
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
@@ -277,3 +277,14 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert len(results.read_text().splitlines()) == 1
     table = grid_markdown(read_cells(results))
     assert "| drawer | two_point |" in table and "[" in table
+
+
+def test_a_slim_checkpoint_acts_like_its_source(run, tmp_path):
+    run_dir, _ = run
+    slim = slim_checkpoint(run_dir / "model_1.pt", tmp_path / "slim" / "model_1.pt")
+    assert set(torch.load(slim, weights_only=False)) == {"actor_state_dict", "iter", "infos"}
+    assert slim.stat().st_size < 0.5 * (run_dir / "model_1.pt").stat().st_size
+    obs = np.random.default_rng(1).normal(size=(4, observations.SIZE))
+    full, small = CheckpointPolicy(run_dir / "model_1.pt"), CheckpointPolicy(slim)
+    np.testing.assert_array_equal(full.act(obs), small.act(obs))
+    assert small.run_cfg.agent.max_iterations == 2

@@ -12,7 +12,7 @@ from rsl_rl.models import MLPModel
 from tensordict import TensorDict
 
 from realikea.errors import RealIkeaError
-from realikea.files import repo_path
+from realikea.files import atomic_path, repo_path
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
 
@@ -41,6 +41,26 @@ def load_saved(checkpoint: Path) -> dict:
     if not isinstance(saved, dict) or "actor_state_dict" not in saved:
         raise RealIkeaError(f"{path}: not a readable rsl-rl checkpoint (no actor_state_dict)")
     return saved
+
+
+# what evaluation reads of a checkpoint: the actor (its normaliser included) and what it carries
+EVALUATION_KEYS = ("actor_state_dict", "iter", "infos")
+
+
+def slim_checkpoint(source: Path, target: Path) -> Path:
+    """Write the part of a checkpoint evaluation needs (`EVALUATION_KEYS`: no critic, no
+    optimiser state), carrying its layout and config even if an older run kept them beside it,
+    to `target`, atomically. It evaluates like the original; training cannot resume from it."""
+    source = Path(source)
+    saved = load_saved(source)
+    infos = {
+        "observation_layout": [list(t) for t in saved_layout(source, saved)],
+        "config": OmegaConf.to_container(run_config(source, saved)),
+    }
+    slim = {k: saved[k] for k in EVALUATION_KEYS if k in saved} | {"infos": infos}
+    with atomic_path(Path(target)) as tmp:
+        torch.save(slim, tmp)
+    return Path(target)
 
 
 def _infos(saved: dict) -> dict:
