@@ -9,4 +9,5 @@ python train.py asset=two_point asset.kind=drawer resistance=smooth collision=co
 last=$(ls "$run"/model_*.pt | sort -V | tail -1)
 python experiments/plot_learning_curve.py "$run"
 realikea eval policy=checkpoint policy.path="$last" asset=two_point asset.kind=drawer \
-  resistance=smooth collision=coacd dr=fixed episodes=50 env.seed=1000
+  resistance=smooth collision=coacd dr=fixed episodes=50 env.seed=1000 \
+  env.num_envs=32
