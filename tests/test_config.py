@@ -58,3 +58,16 @@ def test_train_py_composes_the_config():
         cwd=WORKSPACE,
     ).stdout
     assert "source: hull" in out and "frictionloss: 20.0" in out
+
+
+def test_evaluation_keeps_its_32_env_draw_whatever_trainings_default():
+    """Training's default pool is 64 envs (the generalist); evaluation spreads its episodes over
+    32, the draw every committed table was made with."""
+    assert load_config([]).env.num_envs == 64
+    assert load_config([], "eval").env.num_envs == 32
+    assert load_config(["env.num_envs=8"], "eval").env.num_envs == 8
+
+
+def test_asset_all_draws_by_turns_over_category_and_kind():
+    assert list(load_config([]).asset.stratify) == ["category", "kind"]
+    assert load_config(["asset=knob"]).asset.stratify is None
