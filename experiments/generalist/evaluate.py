@@ -1,6 +1,10 @@
 """Evaluate a checkpoint on the held-out parts over kind x category x resistance mode.
 
-    python experiments/generalist/evaluate.py CHECKPOINT NAME [--episodes 50] [--seed 1000]
+    python experiments/generalist/evaluate.py CHECKPOINT NAME [--episodes 50] [--seed 1000] \
+        [-- OVERRIDES...]
+
+Every cell is evaluated with the eval defaults (collision=coacd: the faithful geometry, whatever
+the checkpoint was trained on) unless OVERRIDES say otherwise (e.g. collision=hull).
 
 Appends one JSON line per cell to experiments/generalist/NAME/cells.jsonl (cells already there
 are skipped, so an interrupted grid continues); `report.py` makes the tables from them.
@@ -22,8 +26,12 @@ def main() -> None:
     parser.add_argument("name", help="results folder under experiments/generalist/")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--seed", type=int, default=1000, help="env.seed of the draw")
+    parser.add_argument("overrides", nargs="*", help="realikea eval overrides for every cell")
     args = parser.parse_args()
-    evaluate_grid(args.checkpoint, HERE / args.name / "cells.jsonl", args.episodes, args.seed)
+    evaluate_grid(
+        args.checkpoint, HERE / args.name / "cells.jsonl", args.episodes, args.seed,
+        extra=args.overrides,
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ def main() -> None:
     for name, cells in grids.items():
         first = next(iter(cells.values()))
         lines += [
-            f"## Trained with {name}: `{first['collision']}` collision, scene "
+            f"## Trained with {name}, evaluated with `{first['collision']}` collision, scene "
             f"{first['scene']}, split {first['split']}, env.seed={first['seed']}, "
             f"{first['episodes']} episodes a cell, randomized poses",
             "",
