@@ -79,10 +79,10 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     for k in order:
         groups.setdefault(_stratum(candidates[k], asset.get("stratify") or ()), []).append(k)
     turns = list(groups.values())
-    chosen = [
-        candidates[turns[i % len(turns)][(i // len(turns)) % len(turns[i % len(turns)])]]
-        for i in range(n)
-    ]
+    chosen = []
+    for i in range(n):  # group i mod G, its (i div G)-th member, cycling
+        group = turns[i % len(turns)]
+        chosen.append(candidates[group[(i // len(turns)) % len(group)]])
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
     build_library(  # a no-op for configurations that are already current

@@ -13,12 +13,12 @@ import json
 import time
 from pathlib import Path
 
-from realikea.assets.catalog import CATEGORIES, effective_split
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import diff_interval, significant, wilson
 from realikea.tasks.outcome import OUTCOMES
 
-KINDS = ("drawer", "door", "flap")
+KINDS = tuple(BASE_KINDS)  # drawer, door, flap
 MODES = ("smooth", "normal", "high")
 
 
