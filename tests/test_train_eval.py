@@ -16,7 +16,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
-from realikea.reports.generalist import evaluate_grid, grid_markdown, read_cells
+from realikea.reports.generalist import evaluate_grid, read_cells, success_table
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 
@@ -275,7 +275,7 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert "asset.split=test" in record["command"] and "env.seed=1000" in record["command"]
     evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
     assert len(results.read_text().splitlines()) == 1
-    table = grid_markdown(read_cells(results))
+    table = success_table(read_cells(results))
     assert "| drawer | two_point |" in table and "[" in table
 
 

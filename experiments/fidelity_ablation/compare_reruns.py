@@ -42,11 +42,22 @@ def compare(old: dict, new: dict) -> tuple[float, str]:
 
 
 def main(argv: list[str]) -> int:
+    if len(argv) != 2:
+        print("usage: compare_reruns.py OLD_RUNS_DIR NEW_RUNS_DIR", file=sys.stderr)
+        return 2
     old_dir, new_dir = (Path(a) for a in argv)
+    old_files = sorted(old_dir.glob("*/eval.json"))
+    if not old_files:
+        print(f"compare_reruns.py: no <run>/eval.json under {old_dir}", file=sys.stderr)
+        return 2
     print("| run | old vs new |\n|---|---|")
     same = True
-    for old_file in sorted(old_dir.glob("*/eval.json")):
+    for old_file in old_files:
         new_file = new_dir / old_file.parent.name / "eval.json"
+        if not new_file.is_file():
+            same = False
+            print(f"| {old_file.parent.name} | missing: {new_file} |")
+            continue
         worst, where = compare(json.loads(old_file.read_text()), json.loads(new_file.read_text()))
         same &= worst == 0.0
         verdict = "identical" if worst == 0.0 else f"max |diff| {worst:.3g} at {where}"

@@ -10,9 +10,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from realikea.eval.stats import diff_interval, significant, wilson
+from realikea.eval.stats import describe, diff_interval, significant
 from realikea.files import atomic_write_text
-from realikea.reports.generalist import MODES, grid_markdown, pooled, read_cells
+from realikea.reports.generalist import (
+    MODES,
+    difference_table,
+    pooled,
+    read_cells,
+    success_table,
+)
 
 HERE = Path(__file__).resolve().parent
 
@@ -28,17 +34,16 @@ def main() -> None:
             f"{first['scene']}, split {first['split']}, env.seed={first['seed']}, "
             f"{first['episodes']} episodes a cell, randomized poses",
             "",
-            grid_markdown(cells),
+            success_table(cells),
         ]
         for mode in MODES:
             k, n = pooled(cells, mode)
             if n:
-                lo, hi = wilson(k, n)
-                lines.append(f"- all cells, {mode}: {k}/{n} = {k / n:.2f} [{lo:.2f}, {hi:.2f}]")
+                lines.append(f"- all cells, {mode}: {describe(k, n)}")
         lines.append("")
     if len(grids) == 2:
         coacd, hull = grids["coacd"], grids["hull"]
-        lines += ["## CoACD vs hull", "", grid_markdown(coacd, hull).split("\n\n", 1)[1], ""]
+        lines += ["## CoACD vs hull", "", difference_table(coacd, hull), ""]
         for mode in MODES:
             (k1, n1), (k2, n2) = pooled(coacd, mode), pooled(hull, mode)
             if n1 and n2:

@@ -25,15 +25,8 @@ def read_index(library: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(f))
 
 
+# what `asset.stratify` may group configurations by
 STRATA = {"category": lambda c: c.part.category, "kind": lambda c: c.base.kind}
-
-
-def _stratum(configuration, keys) -> tuple:
-    """The configuration's group under `asset.stratify` (names from STRATA)."""
-    unknown = [k for k in keys if k not in STRATA]
-    if unknown:
-        raise RealIkeaError(f"asset.stratify: unknown key(s) {unknown}; use {sorted(STRATA)}")
-    return tuple(STRATA[k](configuration) for k in keys)
 
 
 def load_model(
@@ -74,10 +67,14 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
             f"no configuration matches asset.category={asset.category} part={asset.part} "
             f"base={asset.base} kind={asset.get('kind')} split={asset.get('split', 'all')}"
         )
+    keys = list(asset.get("stratify") or ())
+    unknown = [k for k in keys if k not in STRATA]
+    if unknown:
+        raise RealIkeaError(f"asset.stratify: unknown key(s) {unknown}; use {sorted(STRATA)}")
     order = np.random.default_rng(seed).permutation(len(candidates))
     groups: dict[tuple, list] = {}  # in the order the seeded permutation meets them
     for k in order:
-        groups.setdefault(_stratum(candidates[k], asset.get("stratify") or ()), []).append(k)
+        groups.setdefault(tuple(STRATA[key](candidates[k]) for key in keys), []).append(k)
     turns = list(groups.values())
     chosen = []
     for i in range(n):  # group i mod G, its (i div G)-th member, cycling

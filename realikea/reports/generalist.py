@@ -2,9 +2,9 @@
 
 `evaluate_grid` runs `realikea eval` (its own setup: the checkpoint's run groups, the strategy
 classifier) once per cell and appends the cell's JSON line to a results file as it goes, so an
-interrupted grid continues where it stopped. `grid_markdown` turns one or two results files
-(CoACD, hull) into the table with Wilson intervals and, given both, the difference per cell with
-Newcombe's interval.
+interrupted grid continues where it stopped. `success_table` turns a results file into the table
+with Wilson intervals, `difference_table` two of them (CoACD, hull) into the difference per cell
+with Newcombe's interval.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
 from realikea.eval.setup import eval_setup, evaluate
-from realikea.eval.stats import diff_interval, significant, wilson
+from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.tasks.outcome import OUTCOMES
 
 KINDS = tuple(BASE_KINDS)  # drawer, door, flap
@@ -86,8 +86,9 @@ def evaluate_grid(
 
 
 def _count(record: dict) -> tuple[int, int]:
+    """Successes and episodes of a cell (its success rate is k / n of its episodes)."""
     n = int(record["episodes"])
-    return round(record["success"] * n), n
+    return count(record["success"], n), n
 
 
 def _rate(record: dict | None) -> str:
@@ -106,9 +107,9 @@ def _top_strategy(record: dict) -> str:
     return f"{name} {strategies[name]:.2f}"
 
 
-def grid_markdown(cells: dict, other: dict | None = None, names=("CoACD", "hull")) -> str:
-    """Success per kind x category under each mode (Wilson 95 %), the most frequent strategy
-    label; with `other`, the success of both and their difference per cell in each mode."""
+def success_table(cells: dict) -> str:
+    """Success per kind x category under each mode (Wilson 95 %), the partial openings and the
+    most frequent strategy label in high."""
     lines = [
         "| kind | category | " + " | ".join(f"{m} S [95 %]" for m in MODES)
         + " | partial (high) | strategy (high) |",
@@ -125,11 +126,13 @@ def grid_markdown(cells: dict, other: dict | None = None, names=("CoACD", "hull"
                 f"| {kind} | {category} | " + " | ".join(_rate(r) for r in row)
                 + f" | {partial} | {_top_strategy(high) if high else '–'} |"
             )  # fmt: skip
-    if other is None:
-        return "\n".join(lines) + "\n"
+    return "\n".join(lines) + "\n"
+
+
+def difference_table(cells: dict, other: dict, names=("CoACD", "hull")) -> str:
+    """Both successes and their difference (Newcombe 95 %) per kind x category in each mode."""
     a, b = names
-    lines += [
-        "",
+    lines = [
         f"{a} − {b}, success difference per cell with Newcombe's 95 % interval:",
         "",
         "| kind | category | " + " | ".join(f"{m}: {a} / {b}, diff" for m in MODES) + " |",
