@@ -1,0 +1,180 @@
+"""Run the fidelity grid (realikea/conf/experiment/fidelity_grid.yaml) two runs at a time and
+keep each finished run in experiments/fidelity_ablation/grid/NAME/: its Hydra config, metrics,
+eval.json, the final checkpoint slimmed to the actor, and the wall time of every launch.
+
+    python experiments/fidelity_ablation/grid.py                     # every run not yet kept
+    python experiments/fidelity_ablation/grid.py --seeds 0 --categories two_point --dry-run
+    python experiments/fidelity_ablation/grid.py --paper --seeds 0 1 2   # switch 900, 1,500 its
+
+A run is kept once its eval.json exists; a stopped run (outputs/fidelity_grid/NAME with
+checkpoints, no eval.json) continues from its last checkpoint (`train.resume=`) for the
+iterations it still lacks, appending to its metrics.csv. Runs go seed by seed, so every cell
+has one seed before any has two. NAME is <collision>_<resistance>_<category>_s<seed>, with a
+`paper_` prefix for the paper's schedule.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from realikea.errors import RealIkeaError
+from realikea.eval.sweep import checkpoints
+from realikea.files import atomic_write_text
+from realikea.policies.checkpoint import slim_checkpoint
+
+ROOT = Path(__file__).resolve().parents[2]
+KEPT = ROOT / "experiments/fidelity_ablation/grid"
+WORK = ROOT / "outputs/fidelity_grid"
+AXES = {  # the grid's axes as the options name them, in the order the runs go
+    "collisions": ("coacd", "hull"),
+    "resistances": ("high", "smooth", "normal"),
+    "categories": ("two_point", "knob", "finger_pull"),
+}
+ITERATIONS = 600  # fidelity_grid.yaml's agent.max_iterations
+PAPER = {"dr.switch_iteration": 900, "agent.max_iterations": 1500}  # the paper's schedule
+
+
+@dataclass(frozen=True)
+class GridRun:
+    """One training run of the grid: its cell, seed and schedule."""
+
+    collision: str
+    resistance: str
+    category: str
+    seed: int
+    paper: bool = False
+
+    @property
+    def name(self) -> str:
+        stem = f"{self.collision}_{self.resistance}_{self.category}_s{self.seed}"
+        return f"paper_{stem}" if self.paper else stem
+
+    @property
+    def iterations(self) -> int:
+        return PAPER["agent.max_iterations"] if self.paper else ITERATIONS
+
+    def overrides(self) -> list[str]:
+        out = [
+            "+experiment=fidelity_grid",
+            f"collision={self.collision}",
+            f"resistance={self.resistance}",
+            f"asset={self.category}",
+            f"env.seed={self.seed}",
+        ]
+        return out + ([f"{k}={v}" for k, v in PAPER.items()] if self.paper else [])
+
+
+def planned(args: argparse.Namespace) -> list[GridRun]:
+    """The runs the arguments select, seed by seed; unknown axis values are errors."""
+    for axis, values in AXES.items():
+        bad = [v for v in getattr(args, axis) if v not in values]
+        if bad:
+            raise RealIkeaError(f"unknown {axis} {', '.join(bad)}: use {', '.join(values)}")
+    if any(s < 0 for s in args.seeds):
+        raise RealIkeaError(f"seeds must be >= 0, got {args.seeds}")
+    cells = list(itertools.product(args.categories, args.resistances, args.collisions))
+    return [
+        GridRun(collision, resistance, category, seed, args.paper)
+        for seed in args.seeds
+        for category, resistance, collision in cells
+    ]
+
+
+def command(run: GridRun) -> list[str]:
+    """The train.py command of `run`, continuing from its last checkpoint if it has one."""
+    out = [sys.executable, str(ROOT / "train.py"), *run.overrides()]
+    out.append(f"hydra.run.dir={WORK / run.name}")
+    found = checkpoints(WORK / run.name) if (WORK / run.name).is_dir() else []
+    if found:
+        last, path = found[-1]
+        out += [f"train.resume={path}", f"agent.max_iterations={run.iterations - last}"]
+    return out
+
+
+def keep(run: GridRun, seconds: list[float]) -> Path:
+    """Copy what re-evaluation and the report need from the finished run to KEPT/NAME."""
+    source, target = WORK / run.name, KEPT / run.name
+    staging = target.with_name(target.name + ".partial")
+    shutil.rmtree(staging, ignore_errors=True)
+    shutil.copytree(source / ".hydra", staging / ".hydra")
+    for name in ("metrics.csv", "eval.json"):
+        shutil.copy(source / name, staging / name)
+    last = checkpoints(source)[-1][1]
+    slim_checkpoint(last, staging / last.name)
+    atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
+    shutil.rmtree(target, ignore_errors=True)
+    staging.rename(target)
+    return target
+
+
+def launch(run: GridRun) -> subprocess.Popen:
+    WORK.mkdir(parents=True, exist_ok=True)
+    log = (WORK / f"{run.name}.log").open("a")
+    print(f"start {run.name}: {' '.join(command(run)[1:])}", flush=True)
+    return subprocess.Popen(command(run), cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+
+
+def wall_times(run: GridRun) -> list[float]:
+    path = WORK / f"{run.name}.wall.json"
+    return json.loads(path.read_text()) if path.is_file() else []
+
+
+def run_all(runs: list[GridRun], jobs: int) -> int:
+    """Launch the runs `jobs` at a time; keep each that finishes with its eval.json."""
+    queue = [r for r in runs if not (KEPT / r.name / "eval.json").is_file()]
+    print(f"{len(runs) - len(queue)} of {len(runs)} runs already kept; {len(queue)} to go")
+    active: dict[GridRun, tuple[subprocess.Popen, float]] = {}
+    failed = 0
+    while queue or active:
+        while queue and len(active) < jobs:
+            run = queue.pop(0)
+            if (WORK / run.name / "eval.json").is_file():  # trained and evaluated, not kept
+                print(f"kept {keep(run, wall_times(run))}", flush=True)
+                continue
+            active[run] = (launch(run), time.time())
+        time.sleep(10)
+        for run, (proc, begin) in list(active.items()):
+            if proc.poll() is None:
+                continue
+            del active[run]
+            seconds = [*wall_times(run), time.time() - begin]
+            atomic_write_text(WORK / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
+            if proc.returncode == 0 and (WORK / run.name / "eval.json").is_file():
+                print(f"kept {keep(run, seconds)} ({seconds[-1] / 60:.1f} min)", flush=True)
+            else:
+                failed += 1
+                print(f"FAILED {run.name} (exit {proc.returncode}): {WORK / run.name}.log")
+    return 1 if failed else 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    for axis, values in AXES.items():
+        parser.add_argument(f"--{axis}", nargs="+", default=list(values))
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
+    parser.add_argument("--paper", action="store_true", help="switch at 900, 1,500 iterations")
+    parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
+    parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    args = parser.parse_args()
+    try:
+        runs = planned(args)
+    except RealIkeaError as err:
+        parser.error(str(err))
+    if args.dry_run:
+        for run in runs:
+            done = (KEPT / run.name / "eval.json").is_file()
+            print(("kept  " if done else "to run ") + " ".join(command(run)[1:]))
+        return 0
+    return run_all(runs, args.jobs)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
