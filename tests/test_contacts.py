@@ -170,7 +170,7 @@ def test_monitor_separates_forces_on_the_part_from_the_panel(z, front_share, lab
     u = np.array([1.0, 0.0, 0.0])
     for _ in range(300):
         mujoco.mj_step(model, data, nstep=5)
-        monitor.record(log, data, lambda: u, float(data.qvel[0]), PARAMS)
+        monitor.record(log, monitor.forces(data), u, float(data.qvel[0]), PARAMS)
     summary = log.summary("knob", PARAMS, 0.01)
     assert log.samples > 100 and data.qpos[0] > 0.1  # pushed open
     assert summary["front_share"] == pytest.approx(front_share)

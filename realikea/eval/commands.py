@@ -1,7 +1,9 @@
-"""`realikea eval [run|table|sweep|rerun] ...`: `run` (the default: `realikea eval OVERRIDES`)
-evaluates a policy over episodes (Fail/Partial/Success and a JSON line), `table` the Table 2 grid
-(realikea/eval/table.py), `sweep DIR` every checkpoint of a run (realikea/eval/sweep.py),
-`rerun DIR ...` a run's end-of-training evaluation again (realikea/eval/runs.py)."""
+"""`realikea eval [run|table|sweep|rerun|failures] ...`: `run` (the default: `realikea eval
+OVERRIDES`) evaluates a policy over episodes (Fail/Partial/Success and a JSON line), `table` the
+Table 2 grid (realikea/eval/table.py), `sweep DIR` every checkpoint of a run
+(realikea/eval/sweep.py), `rerun DIR ...` a run's end-of-training evaluation again
+(realikea/eval/runs.py), `failures` the failure classifier on episodes built to fail
+(realikea/eval/failure_cases.py)."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from pathlib import Path
 
 from realikea.assets.catalog import effective_split
 from realikea.assets.library import training_configurations
+from realikea.eval.failure_cases import validate
 from realikea.eval.protocol import outcome_table
 from realikea.eval.runs import rerun
 from realikea.eval.setup import eval_setup, evaluate
@@ -19,7 +22,7 @@ from realikea.eval.table import run_table
 from realikea.eval.video import record_strategies
 from realikea.tasks.open_task import OpenTask
 
-SUBCOMMANDS = ("run", "table", "sweep", "rerun")
+SUBCOMMANDS = ("run", "table", "sweep", "rerun", "failures")
 OVERRIDES_HELP = "Hydra overrides, e.g. asset=two_point resistance=high episodes=50"
 
 
@@ -33,7 +36,7 @@ def with_default_command(argv: list[str]) -> list[str]:
 def register(parser: argparse.ArgumentParser) -> None:
     """Add the eval sub-commands to `parser`."""
     commands = parser.add_subparsers(
-        dest="command", required=True, metavar="{run,table,sweep,rerun}"
+        dest="command", required=True, metavar="{" + ",".join(SUBCOMMANDS) + "}"
     )
     run = commands.add_parser(
         "run", help="a policy over episodes (the default command: `realikea eval OVERRIDES`)"
@@ -53,6 +56,11 @@ def register(parser: argparse.ArgumentParser) -> None:
     again = commands.add_parser("rerun", help="repeat runs' end-of-training evaluation")
     again.add_argument("run_dirs", nargs="+", type=Path, help="training run directories")
     again.set_defaults(run=lambda args: rerun(args.run_dirs))
+    failures = commands.add_parser("failures", help="the failure modes on episodes built to fail")
+    failures.add_argument("--episodes", type=int, default=20, help="episodes per case")
+    failures.add_argument("--seed", type=int, default=1000, help="the configurations' draw")
+    failures.add_argument("--out", type=Path, help="also write the table to this markdown file")
+    failures.set_defaults(run=lambda args: validate(args.episodes, args.seed, args.out))
 
 
 def run_eval(args: argparse.Namespace) -> int:

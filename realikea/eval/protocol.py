@@ -10,6 +10,7 @@ from tqdm import tqdm
 
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.contacts import STRATEGIES
+from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.outcome import OUTCOMES, fractions
 
 
@@ -25,11 +26,13 @@ class EvalResult:
 
     def summary(self) -> dict:
         """`{"episodes", "fail", "partial", "success", "strategies", "success_strategies",
-        "policy_notes"}`: the JSON line of an eval.
+        "failure_modes", "policy_notes"}`: the JSON line of an eval.
 
-        `strategies` holds the fraction of episodes per classifier label and
+        `strategies` holds the fraction of episodes per classifier label,
         `success_strategies` the fraction of the successful episodes per label (all zero without
-        a success); both only when contacts were logged. `policy_notes` counts the episodes per
+        a success) and `failure_modes` the fraction of all episodes that failed (fail or
+        partial) in each mode (they add up to 1 - success); all three only when contacts were
+        logged. `policy_notes` counts the episodes per
         reason a scripted policy gave for not moving (`WaypointPolicy.note`), only if any.
         """
         out = {"episodes": len(self.episodes), **fractions(self.outcomes)}
@@ -39,6 +42,8 @@ class EvalResult:
             out["strategies"] = {s: labels.count(s) / len(labels) for s in STRATEGIES}
             won = [e["strategy"] for e in labelled if e.get("outcome") == "success"]
             out["success_strategies"] = {s: won.count(s) / max(len(won), 1) for s in STRATEGIES}
+            modes = [e.get("failure_mode") for e in labelled]
+            out["failure_modes"] = {m: modes.count(m) / len(labelled) for m in FAILURE_MODES}
         notes = Counter(e["policy_note"] for e in self.episodes if "policy_note" in e)
         if notes:
             out["policy_notes"] = dict(sorted(notes.items()))

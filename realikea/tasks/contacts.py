@@ -150,15 +150,11 @@ class ContactMonitor:
             out.append((normal, friction, float(con.friction[0]), on_part))
         return out
 
-    def record(self, log: ContactLog, data, direction, rate: float, p: ClassifierParams):
-        """Add the current state to the episode's log if the gripper is pulling the front open;
-        `direction()` gives the opening direction u, computed only when it is needed."""
-        if rate < p.min_opening_rate:
+    def record(self, log: ContactLog, contacts, u, rate: float, p: ClassifierParams):
+        """Add one sample to the episode's log if the gripper is pulling the front open:
+        `contacts` as `forces` gives them, `u` the opening direction, `rate` the front's."""
+        if rate < p.min_opening_rate or not contacts:
             return
-        contacts = self.forces(data)
-        if not contacts:
-            return
-        u = direction()
         along = [(float(n @ u), float(f @ u), part) for n, f, _, part in contacts]
         normal = sum(n for n, _, part in along if part)
         friction = sum(f for _, f, part in along if part)

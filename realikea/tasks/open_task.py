@@ -40,6 +40,7 @@ from realikea.tasks.contacts import (
     subtree_geoms,
 )
 from realikea.tasks.facts import SceneFacts
+from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonitor, FailureParams
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
 from realikea.tasks.rewards import RewardParams, StepValues, next_stage, weighted_terms
@@ -69,6 +70,7 @@ class EpisodeState:
     stagnant: int = 0
     term_sums: dict[str, float] = field(default_factory=dict)  # reward term -> episode sum
     contacts: ContactLog = field(default_factory=ContactLog)
+    failure: FailureLog = field(default_factory=FailureLog)
 
 
 @dataclass(frozen=True)
@@ -87,7 +89,8 @@ class OpenTask:
     action_size = ACTION_SIZE
     # what an episode's record in the env pool keeps of the final info
     episode_keys = (
-        "outcome", "termination", "opening", "reward_terms", "category", "kind", *SUMMARY_KEYS
+        "outcome", "termination", "opening", "reward_terms", "category", "kind", *SUMMARY_KEYS,
+        *FAILURE_KEYS,
     )  # fmt: skip
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
@@ -150,15 +153,18 @@ class OpenTask:
         self._nominal_handle = np.zeros(3)
         self._t1, self._t2 = self.o1, self.o2
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
-        # the strategy classifier: evaluation's `contacts` settings (realikea/conf/eval.yaml)
+        # the strategy classifier and the failure modes: evaluation's `contacts` settings
+        # (realikea/conf/eval.yaml)
         contacts = cfg.get("contacts")
-        self.classifier = self.contact_monitor = None
+        self.classifier = self.contact_monitor = self.failure_monitor = None
         if contacts is not None and bool(contacts.log):
-            self.classifier = ClassifierParams(
-                **{k: v for k, v in OmegaConf.to_container(contacts).items() if k != "log"}
-            )
+            settings = OmegaConf.to_container(contacts)
+            self.failure_params = FailureParams(**settings.pop("failure"))
+            self.classifier = ClassifierParams(**{k: v for k, v in settings.items() if k != "log"})
             gripper_bodies = [m.body(b).id for b in (HAND_BODY, *FINGER_BODIES)]
             self.contact_monitor = ContactMonitor(m, gripper_bodies, parts, panel)
+            robot = subtree_geoms(m, self._base)
+            self.failure_monitor = FailureMonitor(m, robot, parts + panel)
 
     # --- reading the scene ----------------------------------------------------------------
     @property
@@ -278,12 +284,22 @@ class OpenTask:
         every = self.classifier.sample_substeps  # same physics, sampled between substeps
         for _ in range(self.decimation // every):
             mujoco.mj_step(self.model, self.data, nstep=every)
-            rate = float(self.data.qvel[self._front_v])
-            self.contact_monitor.record(
-                self.state.contacts, self.data, self.pull_direction, rate, self.classifier
-            )
+            self._sample_contacts()
         if self.decimation % every:
             mujoco.mj_step(self.model, self.data, nstep=self.decimation % every)
+
+    def _sample_contacts(self) -> None:
+        """One sample of the strategy classifier's and the failure modes' evidence."""
+        d = self.data
+        contacts = self.contact_monitor.forces(d)
+        u = self.pull_direction() if contacts else None
+        rate = float(d.qvel[self._front_v])
+        self.contact_monitor.record(self.state.contacts, contacts, u, rate, self.classifier)
+        reach = float(np.linalg.norm(d.site_xpos[self._tcp] - d.site_xpos[self._handle]))
+        pitch = tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3), self.nominal)
+        self.failure_monitor.record(
+            self.state.failure, d, contacts, u, reach, pitch, self.failure_params
+        )
 
     def diverged(self) -> bool:
         """NaN state or MuJoCo's own instability warning."""
@@ -331,6 +347,11 @@ class OpenTask:
             if self.contact_monitor is not None:
                 period = self.classifier.sample_substeps * self.model.opt.timestep
                 info.update(s.contacts.summary(self.part.category, self.classifier, period))
+                info.update(
+                    s.failure.summary(
+                        info["outcome"], self.part.category, self.failure_params, period
+                    )
+                )
         obs = self.observe() if not diverged else np.zeros(observations.SIZE)
         return StepResult(obs, reward, terminated, truncated, info)
 
