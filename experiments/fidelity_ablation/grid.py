@@ -8,9 +8,10 @@ eval.json, the final checkpoint slimmed to the actor, and the wall time of every
 
 A run is kept once its eval.json exists; a stopped run (outputs/fidelity_grid/NAME with
 checkpoints, no eval.json) continues from its last checkpoint (`train.resume=`) for the
-iterations it still lacks, appending to its metrics.csv. Runs go seed by seed, so every cell
-has one seed before any has two. NAME is <collision>_<resistance>_<category>_s<seed>, with a
-`paper_` prefix for the paper's schedule.
+iterations it still lacks, appending to its metrics.csv. A run whose training process is alive
+(outputs/fidelity_grid/NAME.pid) is left to it, so two drivers never train the same run.
+Runs go seed by seed, so every cell has one seed before any has two. NAME is
+<collision>_<resistance>_<category>_s<seed>, with a `paper_` prefix for the paper's schedule.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -115,11 +117,25 @@ def keep(run: GridRun, seconds: list[float]) -> Path:
     return target
 
 
+def running(run: GridRun) -> bool:
+    """Whether a training process of `run` (its pid file) is alive."""
+    pid_file = WORK / f"{run.name}.pid"
+    if not pid_file.is_file():
+        return False
+    try:
+        os.kill(int(pid_file.read_text()), 0)
+    except (ProcessLookupError, ValueError):
+        return False
+    return True
+
+
 def launch(run: GridRun) -> subprocess.Popen:
     WORK.mkdir(parents=True, exist_ok=True)
     log = (WORK / f"{run.name}.log").open("a")
     print(f"start {run.name}: {' '.join(command(run)[1:])}", flush=True)
-    return subprocess.Popen(command(run), cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+    proc = subprocess.Popen(command(run), cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+    atomic_write_text(WORK / f"{run.name}.pid", f"{proc.pid}\n")
+    return proc
 
 
 def wall_times(run: GridRun) -> list[float]:
@@ -136,6 +152,9 @@ def run_all(runs: list[GridRun], jobs: int) -> int:
     while queue or active:
         while queue and len(active) < jobs:
             run = queue.pop(0)
+            if running(run):
+                print(f"skip {run.name}: being trained by another process", flush=True)
+                continue
             if (WORK / run.name / "eval.json").is_file():  # trained and evaluated, not kept
                 print(f"kept {keep(run, wall_times(run))}", flush=True)
                 continue
