@@ -4,7 +4,15 @@ from __future__ import annotations
 
 import pytest
 
-from realikea.eval.stats import count, diff_interval, main, significant, wilson
+from realikea.eval.stats import (
+    count,
+    diff_interval,
+    main,
+    seed_difference,
+    seed_interval,
+    significant,
+    wilson,
+)
 
 
 def test_wilson_known_values():
@@ -31,3 +39,30 @@ def test_bad_input_and_counts(capsys):
         count(0.333, 50)
     assert main(["23/50", "16/50"]) == 0
     assert "not significant" in capsys.readouterr().out
+
+
+def test_seed_bootstrap_on_known_inputs():
+    # every episode of every seed a success: no spread at all
+    assert seed_interval([(50, 50)] * 3) == (1.0, 1.0, 1.0)
+    # one seed: the episodes' spread only, close to Wilson's for 25/50 (0.37, 0.63)
+    mean, lo, hi = seed_interval([(25, 50)])
+    assert (
+        mean == 0.5 and lo == pytest.approx(0.36, abs=0.03) and hi == pytest.approx(0.64, abs=0.03)
+    )
+    # seeds that disagree widen the interval beyond what the episodes alone give
+    _, lo3, hi3 = seed_interval([(5, 50), (25, 50), (45, 50)])
+    _, lo1, hi1 = seed_interval([(75, 150)])
+    assert hi3 - lo3 > 2 * (hi1 - lo1)
+    # the same seed gives the same interval
+    assert seed_interval([(5, 50), (45, 50)], seed=3) == seed_interval([(5, 50), (45, 50)], seed=3)
+
+
+def test_seed_difference_on_known_inputs():
+    d, lo, hi = seed_difference([(45, 50)] * 3, [(5, 50)] * 3)
+    assert d == pytest.approx(0.8) and 0.6 < lo < hi < 1.0  # clearly apart
+    d, lo, hi = seed_difference([(20, 50), (30, 50)], [(30, 50), (20, 50)])
+    assert d == 0.0 and lo < 0 < hi  # the same runs: not significant
+    with pytest.raises(ValueError):
+        seed_difference([], [(1, 2)])
+    with pytest.raises(ValueError):
+        seed_interval([(3, 2)])

@@ -1,5 +1,7 @@
-"""Confidence intervals for success rates: Wilson's score interval for one proportion and
-Newcombe's hybrid score interval for the difference of two independent ones.
+"""Confidence intervals for success rates: Wilson's score interval for one proportion,
+Newcombe's hybrid score interval for the difference of two independent ones, and a two-level
+bootstrap (seeds, then episodes) for the mean rate of several training seeds and for the
+difference of two such means.
 
     python -m realikea.eval.stats 23/50 16/50     # each rate's interval, then their difference
 
@@ -13,6 +15,9 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Sequence
+
+import numpy as np
 
 Z95 = 1.959963984540054  # the standard normal's 97.5 % quantile
 
@@ -47,6 +52,50 @@ def significant(k1: int, n1: int, k2: int, n2: int, z: float = Z95) -> bool:
     """Whether the difference's interval excludes zero."""
     lo, hi = diff_interval(k1, n1, k2, n2, z)
     return lo > 0 or hi < 0
+
+
+BOOTSTRAP_DRAWS = 10_000
+
+
+def _seed_means(runs: Sequence[tuple[int, int]], rng: np.random.Generator, draws: int):
+    """`draws` bootstrap replicates of the mean rate over seeds: seeds drawn with replacement,
+    then each drawn seed's episodes redrawn (binomially at its own rate)."""
+    for k, n in runs:
+        _check(k, n)
+    k = np.array([r[0] for r in runs], float)
+    n = np.array([r[1] for r in runs], int)
+    picks = rng.integers(0, len(runs), size=(draws, len(runs)))
+    return (rng.binomial(n[picks], k[picks] / n[picks]) / n[picks]).mean(axis=1)
+
+
+def seed_interval(
+    runs: Sequence[tuple[int, int]], seed: int = 0, draws: int = BOOTSTRAP_DRAWS
+) -> tuple[float, float, float]:
+    """(mean, low, high): the mean success rate of several runs (k successes of n episodes
+    each, one run a training seed) with a 95 % percentile-bootstrap interval over seeds and
+    episodes. With one run only episodes vary: the interval then says nothing of other seeds."""
+    if not runs:
+        raise ValueError("no runs")
+    rates = _seed_means(runs, np.random.default_rng(seed), draws)
+    lo, hi = np.percentile(rates, [2.5, 97.5])
+    return float(np.mean([k / n for k, n in runs])), float(lo), float(hi)
+
+
+def seed_difference(
+    a: Sequence[tuple[int, int]],
+    b: Sequence[tuple[int, int]],
+    seed: int = 0,
+    draws: int = BOOTSTRAP_DRAWS,
+) -> tuple[float, float, float]:
+    """(difference, low, high) of the mean rates of two independent groups of runs (mean of a
+    minus mean of b), with the 95 % bootstrap interval of `seed_interval`'s two levels."""
+    if not a or not b:
+        raise ValueError("both groups need at least one run")
+    rng = np.random.default_rng(seed)
+    diffs = _seed_means(a, rng, draws) - _seed_means(b, rng, draws)
+    lo, hi = np.percentile(diffs, [2.5, 97.5])
+    d = np.mean([k / n for k, n in a]) - np.mean([k / n for k, n in b])
+    return float(d), float(lo), float(hi)
 
 
 def count(rate: float, n: int) -> int:
