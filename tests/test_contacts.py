@@ -158,7 +158,8 @@ def test_monitor_separates_forces_on_the_part_from_the_panel(z, front_share, lab
     it (on the panel): the pull is credited to where the pad touches."""
     import mujoco
 
-    from realikea.tasks.contacts import ContactMonitor, subtree_geoms
+    from realikea.sim.scene import subtree_geoms
+    from realikea.tasks.contacts import ContactMonitor
 
     model = mujoco.MjModel.from_xml_string(_PUSHER.format(z=z))
     data = mujoco.MjData(model)
@@ -176,3 +177,15 @@ def test_monitor_separates_forces_on_the_part_from_the_panel(z, front_share, lab
     assert summary["front_share"] == pytest.approx(front_share)
     assert summary["friction_share"] == pytest.approx(0.0, abs=0.01)  # a push: normal force
     assert summary["strategy"] == label
+
+
+@pytest.mark.parametrize(("pad", "expected"), [(1.0, {0.6, 1.0}), (0.3, {0.3})])
+def test_the_pads_friction_is_the_friction_of_their_contacts_with_the_front(library, pad, expected):
+    """MuJoCo takes the larger coefficient of two geoms: the front's geoms are capped at the
+    pads' (the presets' 1.0 leaves the part's 0.6 and the panel's 1.0 as built)."""
+    from realikea.sim.scene import FRONT_BODY, subtree_geoms
+
+    task = _task(library, "tp_round_bar_128", "drawer_w60_h20", f"gripper.pad_friction={pad}")
+    model = task.model
+    front = subtree_geoms(model, model.body(FRONT_BODY).id)
+    assert set(np.round(model.geom_friction[front, 0], 3)) == expected

@@ -235,9 +235,29 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
     joint.damping = damping if np.ndim(joint.damping) else float(damping[0])
     joint.frictionloss = friction_value
     try:
-        return spec.compile()
+        model = spec.compile()
     except ValueError as err:
         raise RealIkeaError(f"{config_mjcf}: the scene does not compile: {err}") from err
+    cap_front_friction(model, float(cfg.gripper.pad_friction))
+    return model
+
+
+def cap_front_friction(model: mujoco.MjModel, pad_friction: float) -> None:
+    """Cap the sliding friction of the moving front's geoms (the part and the panel) at the
+    pads': MuJoCo uses the larger coefficient of a contact's two geoms, so without the cap a
+    pad of 0.3 on a part of 0.6 would slide at 0.6. The presets' pads (1.0) are above every
+    front geom, so for them nothing changes."""
+    geoms = subtree_geoms(model, model.body(FRONT_BODY).id)
+    model.geom_friction[geoms, 0] = np.minimum(model.geom_friction[geoms, 0], pad_friction)
+
+
+def subtree_geoms(model: mujoco.MjModel, body: int) -> list[int]:
+    """The geoms of `body` and of every body below it (what moves with a front's joint)."""
+    inside = np.zeros(model.nbody, bool)
+    inside[body] = True
+    for b in range(body + 1, model.nbody):  # MuJoCo numbers a parent before its children
+        inside[b] = inside[model.body_parentid[b]]
+    return np.flatnonzero(inside[model.geom_bodyid]).tolist()
 
 
 def reset_home(model: mujoco.MjModel, data: mujoco.MjData, cfg: DictConfig, home=None) -> None:

@@ -98,15 +98,6 @@ def strategy(
     return "lever" if category == "knob" else "hook"
 
 
-def subtree_geoms(model: mujoco.MjModel, body: int) -> list[int]:
-    """The geoms of `body` and of every body below it (what moves with a front's joint)."""
-    inside = np.zeros(model.nbody, bool)
-    inside[body] = True
-    for b in range(body + 1, model.nbody):  # MuJoCo numbers a parent before its children
-        inside[b] = inside[model.body_parentid[b]]
-    return np.flatnonzero(inside[model.geom_bodyid]).tolist()
-
-
 class ContactMonitor:
     """Reads the gripper's contact forces on the moving front of one scene between substeps."""
 

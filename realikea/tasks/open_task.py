@@ -30,15 +30,10 @@ from realikea.sim.scene import (
     TCP_SITE,
     build_scene,
     reset_home,
-)
-from realikea.tasks import observations
-from realikea.tasks.contacts import (
-    SUMMARY_KEYS,
-    ClassifierParams,
-    ContactLog,
-    ContactMonitor,
     subtree_geoms,
 )
+from realikea.tasks import observations
+from realikea.tasks.contacts import SUMMARY_KEYS, ClassifierParams, ContactLog, ContactMonitor
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonitor, FailureParams
 from realikea.tasks.outcome import outcome
