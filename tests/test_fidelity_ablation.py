@@ -185,7 +185,10 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert script().main([str(root), "--out", str(out)]) == 0
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
-    assert "| two_point | smooth | 0.50 | 0.50 | 0.50 | 0.00 | 0.00 | 0.00 |" in text
+    # one seed a cell: Wilson's interval on 1 of 2 episodes, Newcombe's on the difference
+    assert "| coacd | smooth | two_point | 1 | 0.50 [0.09, 0.91] | 0.50 [0.09, 0.91] |" in text
+    assert "| coacd | smooth | two_point | high | 0.50 | 0.00 | +0.50 [" in text
+    assert "| not significant |" in text and "evaluation split test" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
     assert "## Compute" in text and "coacd_smooth_two_point_franka_hand_s0 | 2 | 2 |" in text
     # per run: success under the three modes, strategies under smooth, never 50 % in training

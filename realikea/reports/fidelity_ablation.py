@@ -15,8 +15,10 @@ import numpy as np
 from omegaconf import OmegaConf
 
 from realikea.eval.commands import run_eval
+from realikea.eval.stats import count, diff_interval, seed_difference, seed_interval, wilson
 from realikea.eval.table import CONTACT_STATS
 from realikea.reports.metrics import read_metrics
+from realikea.tasks.failure_modes import FAILURE_MODES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -58,11 +60,20 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "iterations": int(cfg.agent.max_iterations),
                     "num_envs": int(cfg.env.num_envs),
                     "eval": json.loads(eval_file.read_text()),
+                    "scene": str(cfg.get("scene", {}).get("name", "freestanding")),
                     "metrics": read_metrics(run_dir) if metrics.is_file() else {},
                     "strips": sorted((run_dir / "videos").glob("*.png")),
+                    "wall": _launch_seconds(run_dir),
                 }
             )
     return runs
+
+
+def _launch_seconds(run_dir: Path) -> list[float]:
+    """Wall seconds of every launch of a run (experiments/fidelity_ablation/grid.py's
+    wall.json: training, resumes and evaluation), empty for runs made without it."""
+    path = Path(run_dir) / "wall.json"
+    return json.loads(path.read_text())["launches_seconds"] if path.is_file() else []
 
 
 def train_seconds(run: dict) -> float | None:
@@ -113,6 +124,13 @@ def aggregate(runs: list[dict]) -> tuple[dict, dict]:
             out = {o: float(np.mean([e[o] for e in entries])) for o in OUTCOMES}
             out["episodes"] = int(sum(e["episodes"] for e in entries))
             out["seeds"] = len(entries)
+            # (successes, episodes) per seed: what the intervals are computed from
+            out["runs"] = [(count(e["success"], e["episodes"]), e["episodes"]) for e in entries]
+            failures = [e["failure_modes"] for e in entries if e.get("failure_modes")]
+            if failures:
+                out["failure_modes"] = {
+                    f: float(np.mean([x.get(f, 0.0) for x in failures])) for f in FAILURE_MODES
+                }
             strategies = [e["strategies"] for e in entries if e.get("strategies")]
             if strategies:
                 out["strategies"] = {
@@ -132,27 +150,8 @@ def _fmt(value, digits=2) -> str:
 
 
 def outcome_tables(cells: dict, variants, resistances, categories, modes) -> list[str]:
-    lines = [
-        "## Success per cell",
-        "",
-        "Success fraction of the last checkpoint, evaluated under each resistance mode "
-        "(columns), per training resistance and category (rows), mean over seeds.",
-        "",
-        "| category | trained on | "
-        + " | ".join(f"{v}: {m}" for v in variants for m in modes)
-        + " |",
-        "|---|---|" + "---:|" * (len(variants) * len(modes)),
-    ]
-    for category in categories:
-        for res in resistances:
-            values = []
-            for v in variants:
-                for m in modes:
-                    cell = cells.get((v, res, category), {}).get(m)
-                    values.append(_fmt(cell["success"]) if cell else "")
-            lines.append(f"| {category} | {res} | " + " | ".join(values) + " |")
+    lines = []
     lines += [
-        "",
         "## Fail / Partial / Success per cell",
         "",
         "| collision | trained on | category | seeds | "
@@ -172,6 +171,106 @@ def outcome_tables(cells: dict, variants, resistances, categories, modes) -> lis
                     c = cell.get(m)
                     values += [_fmt(c[o]) for o in OUTCOMES] if c else ["", "", ""]
                 lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+    return lines
+
+
+def rate_interval(runs: list[tuple[int, int]]) -> tuple[float, float, float]:
+    """(mean, low, high) of a cell's success: Wilson's interval for one run, else the two-level
+    bootstrap over seeds and episodes (realikea/eval/stats.py)."""
+    if len(runs) == 1:
+        ((k, n),) = runs
+        return (k / n, *wilson(k, n))
+    return seed_interval(runs)
+
+
+def difference_interval(a: list[tuple[int, int]], b: list[tuple[int, int]]):
+    """(difference, low, high) of two cells' success: Newcombe's interval for one run each,
+    else the bootstrap over seeds and episodes."""
+    if len(a) == 1 and len(b) == 1:
+        (k1, n1), (k2, n2) = a[0], b[0]
+        return (k1 / n1 - k2 / n2, *diff_interval(k1, n1, k2, n2))
+    return seed_difference(a, b)
+
+
+def interval_lines(cells: dict, variants, resistances, categories, modes) -> list[str]:
+    """Success per cell with its 95 % interval and the number of seeds."""
+    lines = [
+        "## Success with 95 % intervals",
+        "",
+        "Mean success over seeds [95 % interval]: with one seed, Wilson's interval over its "
+        "episodes; with several, a percentile bootstrap that redraws seeds, then each seed's "
+        "episodes (`realikea.eval.stats.seed_interval`), so seed-to-seed spread counts.",
+        "",
+        "| collision | trained on | category | seeds | " + " | ".join(modes) + " |",
+        "|---|---|---|---:|" + "---|" * len(modes),
+    ]
+    for v in variants:
+        for res in resistances:
+            for category in categories:
+                cell = cells.get((v, res, category))
+                if not cell:
+                    continue
+                values = []
+                for m in modes:
+                    if m not in cell:
+                        values.append("")
+                        continue
+                    mean, lo, hi = rate_interval(cell[m]["runs"])
+                    values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
+                seeds = max(c["seeds"] for c in cell.values())
+                lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+    return lines
+
+
+def difference_lines(cells: dict, variants, resistances, categories, modes) -> list[str]:
+    """CoACD minus hull (of the same preset) per training resistance, category and evaluation
+    mode, with its interval and whether it excludes zero."""
+    pairs = [(v, "hull" + v[5:]) for v in variants if v.startswith("coacd")]
+    lines = [
+        "## CoACD − hull",
+        "",
+        "Difference of mean success [95 % interval] (Newcombe's with one seed a side, else the "
+        "two-level bootstrap); a difference is named only where the interval excludes zero.",
+        "",
+        "| CoACD | trained on | category | evaluated in | CoACD | hull | CoACD − hull [95 %] | |",
+        "|---|---|---|---|---:|---:|---|---|",
+    ]
+    for coacd, hull in pairs:
+        for res in resistances:
+            for category in categories:
+                a, b = cells.get((coacd, res, category), {}), cells.get((hull, res, category), {})
+                for m in modes:
+                    if m not in a or m not in b:
+                        continue
+                    d, lo, hi = difference_interval(a[m]["runs"], b[m]["runs"])
+                    verdict = "significant" if lo > 0 or hi < 0 else "not significant"
+                    lines.append(
+                        f"| {coacd} | {res} | {category} | {m} | {a[m]['success']:.2f} | "
+                        f"{b[m]['success']:.2f} | {d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
+                    )
+    return lines
+
+
+def failure_lines(cells: dict, variants, resistances, categories, mode: str = "high") -> list[str]:
+    """Failure modes per cell under one evaluation mode (fractions of all its episodes)."""
+    lines = [
+        f"## Failure modes (evaluated in {mode})",
+        "",
+        "Fraction of all episodes that failed (fail or partial) in each mode "
+        "(realikea/tasks/failure_modes.py; validated in [failure_modes.md](failure_modes.md)), "
+        "mean over seeds; they add up to 1 − success.",
+        "",
+        "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
+        "|---|---|---|" + "---:|" * len(FAILURE_MODES),
+    ]
+    for v in variants:
+        for res in resistances:
+            for category in categories:
+                entry = cells.get((v, res, category), {}).get(mode, {})
+                if "failure_modes" not in entry:
+                    continue
+                values = " | ".join(_fmt(entry["failure_modes"][f]) for f in FAILURE_MODES)
+                lines.append(f"| {v} | {res} | {category} | {values} |")
     return lines
 
 
@@ -266,8 +365,11 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
     lines = [
         "## Compute",
         "",
-        "| run | iterations | envs | train (min) | s / iteration | eval (min) |",
-        "|---|---:|---:|---:|---:|---:|",
+        "Train and eval minutes from the run's eval.json (the last launch's training); wall: "
+        "every launch of the run, training and evaluation, beside whatever else ran.",
+        "",
+        "| run | iterations | envs | train (min) | s / iteration | eval (min) | wall (min) |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     total = 0.0
     for run in runs:
@@ -277,7 +379,8 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
         eval_min = run["eval"].get("eval_seconds", 0.0) / 60
         lines.append(
             f"| {_rel(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
-            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} |"
+            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} | "
+            f"{_fmt(sum(run['wall']) / 60 if run['wall'] else None, 1)} |"
         )
     lines += ["", f"Total compute (sum over runs): {total / 3600:.2f} h."]
     return lines
@@ -478,16 +581,27 @@ def report(roots: list[Path], out: Path) -> Path:
     plot_learning_curves(by_cell, variants, resistances, categories, out / "learning_curves.png")
     presets = sorted({(r["gripper"], r["contact"]) for r in runs})
     episodes = sorted({r["eval"]["episodes"] for r in runs})
+    splits = sorted({r["eval"].get("split", "all") for r in runs})
+    scenes = sorted({r["scene"] for r in runs})
+    seeds = sorted({r["seed"] for r in runs})
     root = roots[0] if len(roots) == 1 else Path.cwd()
     lines = [
         "# Fidelity ablation",
         "",
-        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; "
+        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; scene "
+        f"{', '.join(scenes)}; evaluation split {'/'.join(splits)}; "
         f"gripper/contact presets: {', '.join('/'.join(p) for p in presets)}; "
+        f"training seeds {', '.join(map(str, seeds))}; "
         f"{'/'.join(map(str, episodes))} evaluation episodes per run and mode "
         "(`train.eval_after`, the last checkpoint).",
         "",
         "![success](success.png)",
+        "",
+        *interval_lines(cells, variants, resistances, categories, modes),
+        "",
+        *difference_lines(cells, variants, resistances, categories, modes),
+        "",
+        *failure_lines(cells, variants, resistances, categories),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",
