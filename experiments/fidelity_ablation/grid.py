@@ -94,7 +94,7 @@ def command(run: GridRun) -> list[str]:
     """The train.py command of `run`, continuing from its last checkpoint if it has one."""
     out = [sys.executable, str(ROOT / "train.py"), *run.overrides()]
     out.append(f"hydra.run.dir={WORK / run.name}")
-    found = checkpoints(WORK / run.name) if (WORK / run.name).is_dir() else []
+    found = checkpoints(WORK / run.name) if any((WORK / run.name).glob("model_*.pt")) else []
     if found:
         last, path = found[-1]
         out += [f"train.resume={path}", f"agent.max_iterations={run.iterations - last}"]
@@ -189,8 +189,9 @@ def main() -> int:
         parser.error(str(err))
     if args.dry_run:
         for run in runs:
-            done = (KEPT / run.name / "eval.json").is_file()
-            print(("kept  " if done else "to run ") + " ".join(command(run)[1:]))
+            state = "kept" if (KEPT / run.name / "eval.json").is_file() else "to run"
+            state = "running" if running(run) else state
+            print(f"{state}: " + " ".join(command(run)[1:]))
         return 0
     return run_all(runs, args.jobs)
 

@@ -1,0 +1,68 @@
+"""The fidelity grid: its experiment config and the driver that runs, resumes and keeps runs."""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+
+import pytest
+
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+from realikea.files import WORKSPACE
+
+
+def grid():
+    """experiments/fidelity_ablation/grid.py as a module."""
+    path = WORKSPACE / "experiments" / "fidelity_ablation" / "grid.py"
+    spec = importlib.util.spec_from_file_location("fidelity_grid", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+def _args(**kw) -> argparse.Namespace:
+    module = grid()
+    values = {axis: list(v) for axis, v in module.AXES.items()}
+    return argparse.Namespace(**{**values, "seeds": [0, 1], "paper": False, **kw})
+
+
+def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_test_parts():
+    cfg = load_config(["+experiment=fidelity_grid", "asset=knob"])
+    assert cfg.scene.name == "kitchen" and cfg.asset.split == "train"
+    assert cfg.asset.kind == "drawer" and cfg.env.num_envs == 64
+    assert cfg.agent.max_iterations == 600 and cfg.dr.switch_iteration == 300
+    assert cfg.train.eval_after.split == "test" and cfg.train.eval_after.episodes == 50
+    assert cfg.task.reward.w_open2 == 2.0  # the generalist's recipe
+
+
+def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused():
+    module = grid()
+    runs = module.planned(_args())
+    assert len(runs) == 2 * 3 * 3 * 2
+    assert {r.seed for r in runs[:18]} == {0} and runs[0].name == "coacd_high_two_point_s0"
+    assert module.planned(_args(paper=True))[0].name == "paper_coacd_high_two_point_s0"
+    assert "dr.switch_iteration=900" in module.planned(_args(paper=True))[0].overrides()
+    with pytest.raises(RealIkeaError, match="unknown categories bogus"):
+        module.planned(_args(categories=["bogus"]))
+    with pytest.raises(RealIkeaError, match="seeds"):
+        module.planned(_args(seeds=[-1]))
+
+
+def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch):
+    module = grid()
+    monkeypatch.setattr(module, "WORK", tmp_path)
+    run = module.planned(_args(seeds=[0]))[0]
+    assert not any(a.startswith("train.resume=") for a in module.command(run))
+    (tmp_path / run.name).mkdir()
+    assert not any(a.startswith("train.resume=") for a in module.command(run))  # no checkpoint
+    for it in (0, 50, 150):
+        (tmp_path / run.name / f"model_{it}.pt").write_bytes(b"")
+    command = module.command(run)
+    assert f"train.resume={tmp_path / run.name / 'model_150.pt'}" in command
+    assert "agent.max_iterations=450" in command
+    assert not module.running(run)
+    (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
+    assert not module.running(run)
