@@ -36,6 +36,8 @@ from realikea.reports.phase_map import (
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "phase_map" / "cells.jsonl"
+# where each default axis value comes from (datasheets and handbook tables)
+SOURCES = HERE / "phase_map_axes.md"
 
 
 def write_report(results: Path) -> Path:
@@ -54,6 +56,7 @@ def write_report(results: Path) -> Path:
         "",
         f"![phase map]({png.name})",
         "",
+        SOURCES.read_text(),
         *phase_table(cells, pull),
     ]
     out = results.with_name("phase_map.md")
