@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import subprocess
 import sys
 
 import pytest
@@ -66,3 +67,27 @@ def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch)
     assert not module.running(run)
     (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
     assert not module.running(run)
+
+
+def test_a_sweep_over_a_group_value_that_does_not_exist_fails_before_writing(tmp_path):
+    out = subprocess.run(
+        [sys.executable, "train.py", "-m", "+experiment=fidelity_grid", "asset=bogus",
+         "hydra/launcher=basic", f"hydra.sweep.dir={tmp_path / 'sweep'}"],
+        cwd=WORKSPACE, capture_output=True, text=True,
+    )  # fmt: skip
+    assert out.returncode != 0
+    assert "Could not find 'asset/bogus'" in out.stderr and "two_point" in out.stderr
+    assert not (tmp_path / "sweep").exists()
+
+
+def test_the_report_names_runs_without_eval_json_and_refuses_an_empty_root(tmp_path, capsys):
+    from realikea.reports.fidelity_ablation import report
+
+    (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra").mkdir(parents=True)
+    (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra" / "config.yaml").write_text("a: 1\n")
+    with pytest.raises(SystemExit, match="no finished runs"):
+        report([tmp_path / "runs"], tmp_path / "out")
+    assert "no eval.json yet" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="no such directory"):
+        report([tmp_path / "missing"], tmp_path / "out")
+    assert not (tmp_path / "out").exists()

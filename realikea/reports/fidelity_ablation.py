@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from collections import defaultdict
 from pathlib import Path
 
@@ -37,8 +38,21 @@ STRATEGY_COLOURS = {
 }
 
 
+def unfinished_runs(roots: list[Path]) -> list[Path]:
+    """Run directories (a `.hydra/config.yaml`) under the roots without an eval.json yet."""
+    return sorted(
+        config.parent.parent
+        for root in roots
+        for config in Path(root).rglob(".hydra/config.yaml")
+        if not (config.parent.parent / "eval.json").is_file()
+    )
+
+
 def find_runs(roots: list[Path]) -> list[dict]:
     """One dict per finished run: its cell, eval.json, metrics and frame strips."""
+    for root in roots:
+        if not Path(root).is_dir():
+            raise SystemExit(f"{root}: no such directory of runs")
     runs = []
     for root in roots:
         for eval_file in sorted(Path(root).rglob("eval.json")):
@@ -566,6 +580,9 @@ def frame_lines(runs: list[dict], out: Path) -> list[str]:
 
 def report(roots: list[Path], out: Path) -> Path:
     runs = find_runs(roots)
+    unfinished = unfinished_runs(roots)
+    for run in unfinished:
+        print(f"not in the report (no eval.json yet): {run}", file=sys.stderr)
     if not runs:
         raise SystemExit(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
     cells, by_cell = aggregate(runs)
@@ -619,6 +636,11 @@ def report(roots: list[Path], out: Path) -> Path:
         "",
         *compute_lines(runs, root),
     ]
+    if unfinished:
+        lines += [
+            "",
+            "Not counted (no eval.json yet): " + ", ".join(_rel(r, root) for r in unfinished),
+        ]
     lines += ["", *frame_lines(runs, out)]
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
