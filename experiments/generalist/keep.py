@@ -2,17 +2,20 @@
 (slimmed to the actor: realikea.policies.checkpoint.slim_checkpoint), its metrics.csv and its
 learning curve, in experiments/generalist/NAME/.
 
-    python experiments/generalist/keep.py RUN_DIR NAME
+    python experiments/generalist/keep.py RUN_DIR NAME [--continues EARLIER_RUN_DIR]
+
+A run resumed from another (`train.resume=`) logs from where that one stopped; `--continues`
+puts the earlier run's metrics (iterations before the resumed run's first) in front.
 """
 
 from __future__ import annotations
 
 import argparse
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import slim_checkpoint
 
 HERE = Path(__file__).resolve().parent
@@ -22,15 +25,21 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("name")
+    parser.add_argument("--continues", type=Path, help="the run this one was resumed from")
     args = parser.parse_args()
     last = max(args.run_dir.glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
     out = HERE / args.name
     out.mkdir(parents=True, exist_ok=True)
     print(f"kept {slim_checkpoint(last, out / last.name)}")
-    shutil.copy(args.run_dir / "metrics.csv", out / "metrics.csv")
+    rows = (args.run_dir / "metrics.csv").read_text().splitlines()
+    if args.continues:
+        first = min(int(row.split(",")[0]) for row in rows[1:])
+        earlier = (args.continues / "metrics.csv").read_text().splitlines()
+        rows = rows[:1] + [r for r in earlier[1:] if int(r.split(",")[0]) < first] + rows[1:]
+    atomic_write_text(out / "metrics.csv", "\n".join(rows) + "\n")
     plot = HERE.parent / "plot_learning_curve.py"
     curve = out / "learning_curve.png"
-    subprocess.run([sys.executable, str(plot), str(args.run_dir), "--out", str(curve)], check=True)
+    subprocess.run([sys.executable, str(plot), str(out), "--out", str(curve)], check=True)
 
 
 if __name__ == "__main__":

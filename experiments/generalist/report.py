@@ -2,8 +2,9 @@
 
     python experiments/generalist/report.py
 
-Success per kind x category x mode with Wilson 95 % intervals for each collision source found
-(coacd/, hull/), then CoACD − hull per cell and pooled over the cells with Newcombe's interval.
+Success per kind x category x mode with Wilson 95 % intervals for each grid found (coacd/ and
+hull/: 1,500 iterations; coacd_2500/: the CoACD run continued to 2,500), then CoACD − hull and
+2,500 − 1,500 iterations per cell and pooled over the cells with Newcombe's interval.
 """
 
 from __future__ import annotations
@@ -23,15 +24,41 @@ from realikea.reports.generalist import (
 HERE = Path(__file__).resolve().parent
 
 
+GRIDS = {  # folder -> what was trained
+    "coacd": "CoACD, 1,500 iterations",
+    "hull": "hull, 1,500 iterations",
+    "coacd_2500": "CoACD, continued to 2,500 iterations",
+}
+COMPARISONS = (
+    ("coacd", "hull", "CoACD vs hull"),
+    ("coacd_2500", "coacd", "2,500 vs 1,500 iterations (CoACD)"),
+)
+
+
+def comparison_lines(a: dict, b: dict, title: str) -> list[str]:
+    """Per-cell and pooled differences of two grids (a − b) with Newcombe's interval."""
+    lines = [f"## {title}", "", difference_table(a, b), ""]
+    for mode in MODES:
+        (k1, n1), (k2, n2) = pooled(a, mode), pooled(b, mode)
+        if n1 and n2:
+            lo, hi = diff_interval(k1, n1, k2, n2)
+            verdict = "significant" if significant(k1, n1, k2, n2) else "not significant"
+            lines.append(
+                f"- all cells, {mode}: {k1 / n1:.2f} vs {k2 / n2:.2f}, "
+                f"{k1 / n1 - k2 / n2:+.2f} [{lo:+.2f}, {hi:+.2f}] ({verdict})"
+            )
+    return [*lines, ""]
+
+
 def main() -> None:
-    grids = {name: read_cells(HERE / name / "cells.jsonl") for name in ("coacd", "hull")}
+    grids = {name: read_cells(HERE / name / "cells.jsonl") for name in GRIDS}
     grids = {name: cells for name, cells in grids.items() if cells}
     lines = ["# The generalist on the held-out parts", ""]
     for name, cells in grids.items():
         first = next(iter(cells.values()))
         lines += [
-            f"## Trained with {name}, evaluated with `{first['collision']}` collision, scene "
-            f"{first['scene']}, split {first['split']}, env.seed={first['seed']}, "
+            f"## Trained with {GRIDS[name]}, evaluated with `{first['collision']}` collision, "
+            f"scene {first['scene']}, split {first['split']}, env.seed={first['seed']}, "
             f"{first['episodes']} episodes a cell, randomized poses",
             "",
             success_table(cells),
@@ -41,19 +68,9 @@ def main() -> None:
             if n:
                 lines.append(f"- all cells, {mode}: {describe(k, n)}")
         lines.append("")
-    if len(grids) == 2:
-        coacd, hull = grids["coacd"], grids["hull"]
-        lines += ["## CoACD vs hull", "", difference_table(coacd, hull), ""]
-        for mode in MODES:
-            (k1, n1), (k2, n2) = pooled(coacd, mode), pooled(hull, mode)
-            if n1 and n2:
-                lo, hi = diff_interval(k1, n1, k2, n2)
-                verdict = "significant" if significant(k1, n1, k2, n2) else "not significant"
-                lines.append(
-                    f"- all cells, {mode}: {k1 / n1:.2f} vs {k2 / n2:.2f}, "
-                    f"{k1 / n1 - k2 / n2:+.2f} [{lo:+.2f}, {hi:+.2f}] ({verdict})"
-                )
-        lines.append("")
+    for a, b, title in COMPARISONS:
+        if a in grids and b in grids:
+            lines += comparison_lines(grids[a], grids[b], title)
     atomic_write_text(HERE / "table.md", "\n".join(lines))
     print("\n".join(lines))
 
