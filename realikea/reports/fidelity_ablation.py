@@ -164,8 +164,8 @@ def _fmt(value, digits=2) -> str:
 
 
 def outcome_tables(cells: dict, variants, resistances, categories, modes) -> list[str]:
-    lines = []
-    lines += [
+    """Fail / Partial / Success per cell and evaluation mode, mean over seeds."""
+    lines = [
         "## Fail / Partial / Success per cell",
         "",
         "| collision | trained on | category | seeds | "
@@ -173,19 +173,21 @@ def outcome_tables(cells: dict, variants, resistances, categories, modes) -> lis
         + " |",
         "|---|---|---|---:|" + "---:|---:|---:|" * len(modes),
     ]
-    for v in variants:
-        for res in resistances:
-            for category in categories:
-                cell = cells.get((v, res, category))
-                if not cell:
-                    continue
-                seeds = max(c["seeds"] for c in cell.values())
-                values = []
-                for m in modes:
-                    c = cell.get(m)
-                    values += [_fmt(c[o]) for o in OUTCOMES] if c else ["", "", ""]
-                lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+    for v, res, category in present_cells(cells, variants, resistances, categories):
+        cell = cells[v, res, category]
+        seeds = max(c["seeds"] for c in cell.values())
+        values = []
+        for m in modes:
+            c = cell.get(m)
+            values += [_fmt(c[o]) for o in OUTCOMES] if c else ["", "", ""]
+        lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
     return lines
+
+
+def present_cells(cells: dict, variants, resistances, categories) -> list[tuple[str, str, str]]:
+    """(variant, training resistance, category) of every cell present, in report order."""
+    order = [(v, r, c) for v in variants for r in resistances for c in categories]
+    return [key for key in order if key in cells]
 
 
 def rate_interval(runs: list[tuple[int, int]]) -> tuple[float, float, float]:
@@ -218,21 +220,17 @@ def interval_lines(cells: dict, variants, resistances, categories, modes) -> lis
         "| collision | trained on | category | seeds | " + " | ".join(modes) + " |",
         "|---|---|---|---:|" + "---|" * len(modes),
     ]
-    for v in variants:
-        for res in resistances:
-            for category in categories:
-                cell = cells.get((v, res, category))
-                if not cell:
-                    continue
-                values = []
-                for m in modes:
-                    if m not in cell:
-                        values.append("")
-                        continue
-                    mean, lo, hi = rate_interval(cell[m]["runs"])
-                    values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
-                seeds = max(c["seeds"] for c in cell.values())
-                lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+    for v, res, category in present_cells(cells, variants, resistances, categories):
+        cell = cells[v, res, category]
+        values = []
+        for m in modes:
+            if m not in cell:
+                values.append("")
+                continue
+            mean, lo, hi = rate_interval(cell[m]["runs"])
+            values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
+        seeds = max(c["seeds"] for c in cell.values())
+        lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
     return lines
 
 
@@ -277,14 +275,11 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
         "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
         "|---|---|---|" + "---:|" * len(FAILURE_MODES),
     ]
-    for v in variants:
-        for res in resistances:
-            for category in categories:
-                entry = cells.get((v, res, category), {}).get(mode, {})
-                if "failure_modes" not in entry:
-                    continue
-                values = " | ".join(_fmt(entry["failure_modes"][f]) for f in FAILURE_MODES)
-                lines.append(f"| {v} | {res} | {category} | {values} |")
+    for v, res, category in present_cells(cells, variants, resistances, categories):
+        entry = cells[v, res, category].get(mode, {})
+        if "failure_modes" in entry:
+            values = " | ".join(_fmt(entry["failure_modes"][f]) for f in FAILURE_MODES)
+            lines.append(f"| {v} | {res} | {category} | {values} |")
     return lines
 
 
