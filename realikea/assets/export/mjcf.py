@@ -5,7 +5,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from realikea.assets.export.model import Articulation, copy_mesh_files
+from realikea.assets.export.model import Articulation, link_mesh_files
 
 RESISTANCE_SCHEMA = (
     "MJCF <joint damping frictionloss/> as built (slide: N s/m and N; hinge: N m s/rad and N m), "
@@ -14,7 +14,7 @@ RESISTANCE_SCHEMA = (
 
 
 def write_mjcf(articulation: Articulation, folder: Path, name: str) -> Path:
-    """Copy the built MJCF to `folder/name` and its meshes to the same relative paths."""
-    copy_mesh_files(articulation, folder)
+    """Copy the built MJCF to `folder/name`, its meshes to the same relative paths."""
+    link_mesh_files(articulation, folder)
     shutil.copyfile(articulation.mjcf, folder / name)
     return folder / name

@@ -8,7 +8,6 @@ come from the XML, because MuJoCo recentres a compiled mesh geom on its own cent
 
 from __future__ import annotations
 
-import shutil
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,6 +16,7 @@ import mujoco
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from realikea.assets.cache import link_or_copy
 from realikea.assets.library import FRONT_JOINT
 from realikea.assets.workflow.assembly import SOLID_GROUP, VISUAL_GROUP
 from realikea.errors import RealIkeaError
@@ -184,13 +184,13 @@ def read_articulation(mjcf: Path) -> Articulation:
     return Articulation(name, mjcf, [root, *links], data.site("handle").xpos.copy())
 
 
-def copy_mesh_files(articulation: Articulation, folder: Path) -> dict[Path, str]:
-    """Copy every mesh the articulation uses into `folder` at the same path relative to its MJCF;
-    returns each source file's relative path (POSIX), for the written model to reference."""
+def link_mesh_files(articulation: Articulation, folder: Path) -> dict[Path, str]:
+    """Put every mesh the articulation uses into `folder` at the same path relative to its MJCF
+    (hard-linked like the library's own meshes, copied across file systems); returns each source
+    file's relative path (POSIX), for the written model to reference."""
     relative = {}
     for source in articulation.mesh_files():
         rel = source.relative_to(articulation.mjcf.parent)
-        (folder / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(source, folder / rel)
+        link_or_copy(source, folder / rel)
         relative[source] = rel.as_posix()
     return relative

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from realikea.assets.export.model import Articulation, Link, copy_mesh_files
+from realikea.assets.export.model import Articulation, Link, link_mesh_files
 
 URDF_JOINT = {"slide": "prismatic", "hinge": "revolute"}
 # URDF requires an effort and a velocity limit on a moving joint; nothing drives this one (a
@@ -96,8 +96,8 @@ def _joint(robot: ET.Element, link: Link, frames: dict[str, np.ndarray]) -> None
 
 
 def write_urdf(articulation: Articulation, folder: Path, name: str) -> Path:
-    """Write `folder/name` and copy its meshes to `folder/meshes/` (relative paths)."""
-    files = copy_mesh_files(articulation, folder)
+    """Write `folder/name` with its meshes in `folder/meshes/`, referenced relatively."""
+    files = link_mesh_files(articulation, folder)
     frames = {link.name: _frame(link) for link in articulation.links}
     robot = ET.Element("robot", name=articulation.name)
     for link in articulation.links:
