@@ -1,4 +1,4 @@
-"""What a fingertip can catch, read off a part's mesh (realikea/policies/catch_geometry.py).
+"""What a fingertip can catch, read off a part's mesh (realikea/assets/catch_geometry.py).
 
 Reference: the formulas `hook_oracle` used to read from the catalog's dimension rows (copied
 here as `_catalog_reference`, since the policy no longer has them). Every catalog part is
@@ -34,10 +34,7 @@ import pytest
 import trimesh
 
 from realikea.assets.catalog import Catalog
-from realikea.assets.shapes import part_mesh
-from realikea.assets.workflow import cleaning, segmentation
-from realikea.eval.protocol import EvalResult
-from realikea.policies.catch_geometry import (
+from realikea.assets.catch_geometry import (
     FULL_RADIUS_TOL,
     MIN_ROOM,
     BarCatch,
@@ -47,6 +44,9 @@ from realikea.policies.catch_geometry import (
     catch_features,
     catch_features_at,
 )
+from realikea.assets.shapes import part_mesh
+from realikea.assets.workflow import cleaning, segmentation
+from realikea.eval.protocol import EvalResult
 from realikea.policies.hook_oracle import HookOracle
 from realikea.policies.scripted import OPEN
 from realikea.sim.ik import NOMINAL_TCP_ROTATION

@@ -1,5 +1,5 @@
 """Why hook_oracle's lip wedge catches no finger pull: how far a Franka fingertip can rise behind
-a lip at a given hand pitch, from each part's measured channel (policies/catch_geometry.py).
+a lip at a given hand pitch, from each part's measured channel (assets/catch_geometry.py).
 
 Geometry (part frame: z out of the front, y up; the lip hangs down at z = edge_z, the channel
 behind it runs back to z = back): the hand tipped up by p leads with its lower finger, whose pad
@@ -17,9 +17,9 @@ import argparse
 import math
 
 from realikea.assets.catalog import Catalog
+from realikea.assets.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
 from realikea.config import load_config
 from realikea.files import repo_path
-from realikea.policies.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
 from realikea.policies.hook_oracle import PAD_THICKNESS, OracleParams
 
 PITCHES = (0.25, 0.56, 0.8, 1.0)  # rad: the oracle's lip pitch, the reach limit, steeper

@@ -1,4 +1,4 @@
-"""`realikea assets ...`: build, list, gallery, import and split."""
+"""`realikea assets ...`: build, list, gallery, import, split and export."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ import time
 from pathlib import Path
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
-from realikea.assets.catalog import Catalog, catalog_dir
+from realikea.assets.catalog import Catalog, Configuration, catalog_dir
+from realikea.assets.export.driver import EXPORTERS, SOURCES, export_configurations
 from realikea.assets.gallery import render_gallery
 from realikea.assets.importer import import_part
 from realikea.assets.split import (
@@ -66,24 +67,48 @@ def register(parser: argparse.ArgumentParser) -> None:
     split.add_argument("--seed", type=int, help="generator seed (default: the committed one)")
     split.set_defaults(run=run_split)
 
+    export = commands.add_parser(
+        "export",
+        help="write built configurations as URDF, USD or MJCF folders with metadata.json",
+        description=(
+            "Export built configurations (see `realikea assets build`) into "
+            "OUT/<format>_<collision>/<config id>/: the model, its meshes and metadata.json. "
+            "A rerun skips configurations whose export is complete and current."
+        ),
+    )
+    which = export.add_mutually_exclusive_group()
+    which.add_argument("--all", action="store_true", help="all part x base configurations")
+    which.add_argument("--part", help="one part id (all bases unless --base is given)")
+    export.add_argument("--base", help="one base id")
+    export.add_argument("--format", required=True, choices=tuple(EXPORTERS))
+    export.add_argument(
+        "--collision", choices=SOURCES, help="collision source (default: the config's collision)"
+    )
+    export.add_argument("--out", type=Path, required=True, help="output folder")
+    export.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    export.set_defaults(run=run_export)
+
+
+def selected_configurations(args: argparse.Namespace, cfg, catalog: Catalog) -> list[Configuration]:
+    """The configurations `--all`, `--part`/`--base` or else the `asset` group select."""
+    if args.all:
+        return list(catalog.configurations())
+    if args.part or args.base:
+        return list(catalog.configurations(cfg.asset.category, args.part, args.base))
+    asset = cfg.asset
+    # every part of the category unless the command line names a split
+    named = overrides_set(args.overrides, "asset.split")
+    split = asset.split if named else "all"
+    return list(
+        catalog.configurations(
+            asset.category, asset.part, asset.base, asset.get("kind"), split=split
+        )
+    )
+
 
 def run_build(args: argparse.Namespace) -> int:
     cfg = load_config(args.overrides)
-    catalog = Catalog.load()
-    if args.all:
-        configs = list(catalog.configurations())
-    elif args.part or args.base:
-        configs = list(catalog.configurations(cfg.asset.category, args.part, args.base))
-    else:
-        asset = cfg.asset
-        # every part of the category unless the command line names a split
-        named = overrides_set(args.overrides, "asset.split")
-        split = asset.split if named else "all"
-        configs = list(
-            catalog.configurations(
-                asset.category, asset.part, asset.base, asset.get("kind"), split=split
-            )
-        )
+    configs = selected_configurations(args, cfg, Catalog.load())
     sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
     out = args.out or repo_path(cfg.paths.library)
     start = time.perf_counter()
@@ -179,4 +204,22 @@ def run_split(args: argparse.Namespace) -> int:
     imported = [p for p in catalog.parts.values() if p.id not in split]
     if imported:
         print(f"imported parts (test unless split.csv names them): {len(imported)}")
+    return 0
+
+
+def run_export(args: argparse.Namespace) -> int:
+    """Export the selected built configurations and print what was written where."""
+    cfg = load_config(args.overrides)
+    configs = selected_configurations(args, cfg, Catalog.load())
+    source = args.collision or str(cfg.collision.source)
+    start = time.perf_counter()
+    report = export_configurations(
+        configs, args.format, source, repo_path(cfg.paths.library), args.out
+    )
+    seconds = time.perf_counter() - start
+    print(
+        f"{len(configs)} configurations ({args.format}, {source}) in {seconds:.1f} s:"
+        f" exported {report.exported}, up to date {report.current}"
+    )
+    print(f"folder: {report.folder}")
     return 0

@@ -33,7 +33,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from realikea.policies.catch_geometry import NoCatch, catch_features_at
+from realikea.assets.catch_geometry import NoCatch, catch_features_at
 from realikea.policies.scripted import (
     OPEN,
     ActionScales,

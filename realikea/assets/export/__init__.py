@@ -1,0 +1,1 @@
+"""Export built configurations to other simulators' formats: URDF, USD and a copy of the MJCF."""

@@ -1,0 +1,387 @@
+"""`realikea assets export`: URDF, USD and MJCF folders that reload in their own tools, with
+metadata.json, written atomically and resumably, and refusing bad input before writing."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import shutil
+
+import mujoco
+import numpy as np
+import pybullet
+import pytest
+from conftest import build_sample
+from pxr import Usd, UsdGeom, UsdPhysics
+
+from realikea.assets.export import driver
+from realikea.assets.export.driver import export_configurations, export_folder
+from realikea.cli import main
+from realikea.errors import RealIkeaError
+from realikea.files import repo_path
+
+DRAWER = ("tp_round_bar_128", "drawer_w60_h20")  # a bar: a gap behind it
+FLAP = ("fp_cup_128", "flap_w60_h40")  # a finger pull: a channel behind its lip
+DOOR = ("knob_round_30", "door_left_w40_h80")  # a knob: no gap
+CONFIGS = {"drawer": DRAWER, "flap": FLAP, "door": DOOR}
+REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory, catalog, settings, cache_root):
+    """The three configurations built for both sources in high resistance."""
+    out = tmp_path_factory.mktemp("library")
+    build_sample(_configs(catalog, *CONFIGS), settings, cache_root, out)
+    return out
+
+
+def _configs(catalog, *names):
+    return [next(catalog.configurations(part=CONFIGS[n][0], base=CONFIGS[n][1])) for n in names]
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory, library, catalog):
+    """Every format of the three configurations with CoACD, and the drawer's hull URDF."""
+    out = tmp_path_factory.mktemp("export")
+    configs = _configs(catalog, *CONFIGS)
+    for fmt in driver.EXPORTERS:
+        export_configurations(configs, fmt, "coacd", library, out, progress=False)
+    export_configurations(_configs(catalog, "drawer"), "urdf", "hull", library, out, progress=False)
+    return out
+
+
+def _id(name: str) -> str:
+    return "__".join(CONFIGS[name])
+
+
+def _built_model(library, name: str, source: str = "coacd") -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(str(library / _id(name) / f"model_{source}.xml"))
+
+
+def _pieces(model: mujoco.MjModel) -> int:
+    """Colliding geoms on the MJCF's part body."""
+    part = model.body("part").id
+    return sum(
+        1 for g in range(model.ngeom) if model.geom_bodyid[g] == part and model.geom_contype[g]
+    )
+
+
+def _mujoco_pose(model: mujoco.MjModel, q: float, body: str) -> np.ndarray:
+    """World position of a body with the front's joint at q."""
+    data = mujoco.MjData(model)
+    data.qpos[0] = q
+    mujoco.mj_kinematics(model, data)
+    return data.body(body).xpos.copy()
+
+
+def _front_joint(model: mujoco.MjModel):
+    joint = model.joint("front_joint")
+    dof = joint.dofadr[0]
+    return joint, model.dof_damping[dof], model.dof_frictionloss[dof]
+
+
+# --------------------------------------------------------------------------------- URDF
+
+
+@pytest.mark.parametrize(("name", "source"), [(n, "coacd") for n in CONFIGS] + [("drawer", "hull")])
+def test_urdf_loads_in_pybullet_with_the_mjcf_joint_and_one_shape_per_piece(
+    exported, library, name, source
+):
+    model = _built_model(library, name, source)
+    joint, damping, frictionloss = _front_joint(model)
+    urdf = export_folder(exported, "urdf", source, _id(name)) / f"model_{source}.urdf"
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(urdf), useFixedBase=True, physicsClientId=client)
+        info = {
+            pybullet.getJointInfo(body, i, physicsClientId=client)[1].decode(): i
+            for i in range(pybullet.getNumJoints(body, physicsClientId=client))
+        }
+        front, part = info["front_joint"], info["part_weld"]
+        _, _, kind, *_, jdamping, jfriction, lower, upper = pybullet.getJointInfo(
+            body, front, physicsClientId=client
+        )[:10]
+        slide = model.jnt_type[joint.id] == mujoco.mjtJoint.mjJNT_SLIDE
+        assert kind == (pybullet.JOINT_PRISMATIC if slide else pybullet.JOINT_REVOLUTE)
+        assert (lower, upper) == pytest.approx(tuple(joint.range), abs=1e-9)
+        assert jdamping == pytest.approx(damping, rel=1e-9)
+        assert jfriction == pytest.approx(frictionloss, rel=1e-9)
+
+        def shapes(link):
+            return len(pybullet.getCollisionShapeData(body, link, physicsClientId=client))
+
+        assert shapes(-1) == 5  # the carcass's boxes
+        assert shapes(front) == 1  # the front's inset collision box
+        assert shapes(part) == _pieces(model)  # one per convex piece
+        friction = pybullet.getDynamicsInfo(body, part, physicsClientId=client)[1]
+        assert friction == pytest.approx(model.geom("part_collision_000").friction[0])
+        for q in (0.0, joint.range[1] * 0.7):  # the part follows the joint as in MuJoCo
+            pybullet.resetJointState(body, front, q, physicsClientId=client)
+            state = pybullet.getLinkState(
+                body, part, computeForwardKinematics=True, physicsClientId=client
+            )
+            assert state[4] == pytest.approx(_mujoco_pose(model, q, "part"), abs=1e-6)
+    finally:
+        pybullet.disconnect(client)
+
+
+# --------------------------------------------------------------------------------- USD
+
+
+def _physics(stage: Usd.Stage) -> dict:
+    """UsdPhysics' own parse of the stage (what a simulator's importer reads), by object type."""
+    parsed = UsdPhysics.UsdPhysicsLoadStageFromPrimRange(stage, ["/"])
+    return {kind: list(zip(paths, descs, strict=True)) for kind, (paths, descs) in parsed.items()}
+
+
+@pytest.mark.parametrize("name", list(CONFIGS))
+def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, library, name):
+    model = _built_model(library, name)
+    joint, damping, frictionloss = _front_joint(model)
+    stage = Usd.Stage.Open(
+        str(export_folder(exported, "usd", "coacd", _id(name)) / "model_coacd.usd")
+    )
+    root = stage.GetDefaultPrim()
+    assert root.HasAPI(UsdPhysics.ArticulationRootAPI)
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+    parsed = _physics(stage)
+    T = UsdPhysics.ObjectType
+    ((_, articulation),) = parsed[T.Articulation]
+    slide = model.jnt_type[joint.id] == mujoco.mjtJoint.mjJNT_SLIDE
+    ((path, desc),) = parsed[T.PrismaticJoint if slide else T.RevoluteJoint]
+    assert path.name == "front_joint" and path in articulation.articulatedJoints
+    assert desc.body0 == "" and desc.body1 == root.GetPath().AppendChild("front")  # fixed base
+    to_unit = 1.0 if slide else 180 / math.pi  # revolute limits in degrees
+    assert (desc.limit.lower, desc.limit.upper) == pytest.approx(
+        tuple(joint.range * to_unit), rel=1e-6
+    )
+    per_unit = 1.0 if slide else math.pi / 180
+    assert desc.drive.stiffness == 0 and desc.drive.damping == pytest.approx(damping * per_unit)
+    prim = stage.GetPrimAtPath(path)
+    instance = "linear" if slide else "angular"
+    for effort in ("staticFrictionEffort", "dynamicFrictionEffort"):
+        value = prim.GetAttribute(f"physxJointAxis:{instance}:{effort}").Get()
+        assert value == pytest.approx(frictionloss, rel=1e-6)
+    part = root.GetPath().AppendChild("part")
+    pieces = [d for p, d in parsed[T.MeshShape] if p.GetParentPath() == part]
+    assert len(pieces) == _pieces(model)
+    assert all(d.approximation == UsdPhysics.Tokens.convexHull for d in pieces)
+    visual = stage.GetPrimAtPath(part.AppendChild("part_visual"))
+    assert visual.IsA(UsdGeom.Mesh) and not visual.HasAPI(UsdPhysics.CollisionAPI)
+    world = UsdGeom.Xformable(stage.GetPrimAtPath(part)).ComputeLocalToWorldTransform(0)
+    assert np.array(world.ExtractTranslation()) == pytest.approx(_mujoco_pose(model, 0, "part"))
+    masses = {p.name: d for p, d in parsed[T.RigidBody]}
+    assert set(masses) == {"front", "part"}
+    mass = UsdPhysics.MassAPI(stage.GetPrimAtPath(part)).GetMassAttr().Get()
+    assert mass == pytest.approx(model.body("part").mass[0], rel=1e-6)
+
+
+# --------------------------------------------------------------------------------- MJCF
+
+
+@pytest.mark.parametrize("name", list(CONFIGS))
+def test_mjcf_copy_compiles_with_the_built_joint(exported, library, name):
+    built = _built_model(library, name)
+    folder = export_folder(exported, "mjcf", "coacd", _id(name))
+    copy = mujoco.MjModel.from_xml_path(str(folder / "model_coacd.xml"))
+    assert (copy.nbody, copy.ngeom, copy.nmesh) == (built.nbody, built.ngeom, built.nmesh)
+    assert _front_joint(copy)[1:] == _front_joint(built)[1:]
+    assert not any(p.name.startswith("hull") for p in (folder / "meshes").iterdir())
+
+
+# --------------------------------------------------------------------------------- metadata
+
+
+def _report_row(part_id: str) -> dict:
+    with REPORT_CSV.open(newline="") as f:
+        return next(r for r in csv.DictReader(f) if r["id"] == part_id)
+
+
+def _metadata(out, fmt: str, source: str, name: str) -> dict:
+    return json.loads((export_folder(out, fmt, source, _id(name)) / "metadata.json").read_text())
+
+
+@pytest.mark.parametrize(("fmt", "source", "name"), [
+    *(("usd", "coacd", n) for n in CONFIGS), ("urdf", "hull", "drawer"),
+])  # fmt: skip
+def test_metadata_describes_the_configuration(exported, library, catalog, fmt, source, name):
+    meta = _metadata(exported, fmt, source, name)
+    part, base = catalog.part(CONFIGS[name][0]), catalog.base(CONFIGS[name][1])
+    assert (meta["config_id"], meta["part_id"], meta["base_id"]) == (_id(name), part.id, base.id)
+    assert (meta["category"], meta["family"], meta["kind"]) == (
+        part.category,
+        part.family,
+        base.kind,
+    )
+    assert meta["dimensions"]["part"] == part.dims
+    assert meta["dimensions"]["base"]["width"] == base.width
+    assert meta["joint"]["type"] == base.joint and meta["joint"]["range"] == [0.0, base.travel]
+    # resistance: built in high, every mode scaled to the handle as the build scales it
+    resistance = meta["resistance"]
+    assert set(resistance["modes"]) == {"smooth", "normal", "high"}
+    assert resistance["built"]["mode"] == "high"
+    _, damping, frictionloss = _front_joint(_built_model(library, name, source))
+    assert resistance["built"]["damping"] == pytest.approx(damping)
+    assert resistance["modes"]["high"]["frictionloss"] == pytest.approx(frictionloss, rel=1e-5)
+    if base.joint == "slide":
+        assert resistance["lever_arm"] is None
+        assert resistance["modes"] == resistance["at_handle"]
+    else:
+        r = resistance["lever_arm"]
+        assert 0.05 < r < base.width + base.height
+        assert resistance["modes"]["smooth"]["frictionloss"] == pytest.approx(5.0 * r)
+        assert resistance["modes"]["smooth"]["damping"] == pytest.approx(2.0 * r**2)
+    # bounds, masses
+    size = meta["part_bounds"]["part_frame"]["size"]
+    assert all(s > 0.005 for s in size)
+    masses = meta["mass_model"]
+    assert masses["links"]["part"]["mass"] > 0 and masses["links"]["carcass"]["mass"] == 0
+    assert masses["moving_mass"] == pytest.approx(
+        masses["links"]["front"]["mass"] + masses["links"]["part"]["mass"]
+    )
+    # the fidelity certificate is the report's row for this part and source
+    certificate, row = meta["fidelity_certificate"], _report_row(part.id)
+    assert certificate["source"] == source
+    assert certificate["origin"] == "experiments/fidelity/parts.csv"
+    for direction in ("q_to_p", "p_to_q"):
+        for stat in ("mean", "median", "p90"):
+            expected = float(row[f"{source}_{direction}_{stat}_m"])
+            assert certificate[f"{direction}_m"][stat] == expected
+    # what a 9 mm fingertip can use
+    clearance = meta["fingertip_clearance"]
+    assert clearance["fingertip"] == pytest.approx(0.009)
+    if part.category == "knob":
+        assert clearance["clearance"] is None and clearance["fits_fingertip"] is None
+    else:
+        assert 0.009 < clearance["clearance"] < 0.03 and clearance["fits_fingertip"]
+    assert meta["export"]["format"] == fmt and meta["export"]["collision"] == source
+    folder = export_folder(exported, fmt, source, _id(name))
+    assert all((folder / f).is_file() for f in meta["export"]["files"])
+
+
+def test_the_hull_certificate_swells_more_than_coacd(exported):
+    coacd = _metadata(exported, "urdf", "coacd", "drawer")["fidelity_certificate"]
+    hull = _metadata(exported, "urdf", "hull", "drawer")["fidelity_certificate"]
+    assert hull["q_to_p_m"]["mean"] > 3 * coacd["q_to_p_m"]["mean"]
+
+
+def test_a_part_missing_from_the_report_is_measured(library, catalog, tmp_path):
+    (config,) = _configs(catalog, "flap")
+    export_configurations(
+        [config],
+        "mjcf",
+        "coacd",
+        library,
+        tmp_path,
+        fidelity_csv=tmp_path / "no_report.csv",
+        progress=False,
+    )
+    certificate = _metadata(tmp_path, "mjcf", "coacd", "flap")["fidelity_certificate"]
+    assert certificate["origin"].startswith("measured at export")
+    row = _report_row(config.part.id)  # the report's metric and defaults: the same numbers
+    assert certificate["q_to_p_m"]["mean"] == pytest.approx(float(row["coacd_q_to_p_mean_m"]))
+
+
+# --------------------------------------------------------------------------------- files
+
+
+def test_a_relocated_folder_still_loads(library, catalog, tmp_path):
+    """Exported from a copy of the library that is then deleted, and moved elsewhere."""
+    (config,) = _configs(catalog, "door")
+    copy = tmp_path / "library"
+    shutil.copytree(library / config.id, copy / config.id)
+    for fmt in driver.EXPORTERS:
+        export_configurations([config], fmt, "coacd", copy, tmp_path / "out", progress=False)
+    shutil.rmtree(copy)
+    moved = tmp_path / "elsewhere"
+    shutil.move(tmp_path / "out", moved)
+    folder = {fmt: export_folder(moved, fmt, "coacd", config.id) for fmt in driver.EXPORTERS}
+    assert mujoco.MjModel.from_xml_path(str(folder["mjcf"] / "model_coacd.xml")).nbody == 5
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(folder["urdf"] / "model_coacd.urdf"), physicsClientId=client)
+        assert pybullet.getNumJoints(body, physicsClientId=client) == 2
+        shapes = pybullet.getCollisionShapeData(body, 1, physicsClientId=client)
+        assert all(s[4].decode().startswith(str(folder["urdf"])) for s in shapes)
+    finally:
+        pybullet.disconnect(client)
+    stage = Usd.Stage.Open(str(folder["usd"] / "model_coacd.usd"))
+    assert stage.GetDefaultPrim().HasAPI(UsdPhysics.ArticulationRootAPI)
+
+
+def test_a_rerun_skips_complete_current_configurations(library, catalog, tmp_path, monkeypatch):
+    configs = _configs(catalog, "drawer", "door")
+    first = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    assert (first.exported, first.current) == (2, 0)
+    record = export_folder(tmp_path, "urdf", "coacd", configs[0].id) / "metadata.json"
+    stamp = record.stat().st_mtime_ns
+    again = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    assert (again.exported, again.current) == (0, 2) and record.stat().st_mtime_ns == stamp
+    monkeypatch.setattr(driver, "EXPORT_VERSION", "changed")  # what it was made from changed
+    redone = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    assert (redone.exported, redone.current) == (2, 0)
+
+
+def test_an_interrupted_export_leaves_no_partial_folder(library, catalog, tmp_path, monkeypatch):
+    configs = _configs(catalog, "drawer", "flap", "door")
+    written = driver.configuration_metadata
+    calls = []
+
+    def crash_on_the_second(*args):
+        """Fails after the model and meshes of the second configuration are written."""
+        calls.append(args[0].id)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return written(*args)
+
+    monkeypatch.setattr(driver, "configuration_metadata", crash_on_the_second)
+    with pytest.raises(KeyboardInterrupt):
+        export_configurations(configs, "usd", "coacd", library, tmp_path, progress=False)
+    parent = tmp_path / "usd_coacd"
+    assert sorted(p.name for p in parent.iterdir()) == [configs[0].id]  # no staging left
+    monkeypatch.setattr(driver, "configuration_metadata", written)
+    report = export_configurations(configs, "usd", "coacd", library, tmp_path, progress=False)
+    assert (report.exported, report.current) == (2, 1)
+    assert sorted(p.name for p in parent.iterdir()) == sorted(c.id for c in configs)
+
+
+# --------------------------------------------------------------------------------- bad input
+
+
+def test_the_command_exports_one_configuration(library, tmp_path, capsys):
+    part, base = DRAWER
+    args = ["--part", part, "--base", base, "--format", "mjcf", "--out", str(tmp_path)]
+    assert main(["assets", "export", *args, f"paths.library={library}"]) == 0
+    assert "exported 1, up to date 0" in capsys.readouterr().out
+    assert (export_folder(tmp_path, "mjcf", "coacd", _id("drawer")) / "metadata.json").is_file()
+
+
+def test_an_unknown_format_is_refused(library, catalog, tmp_path, capsys):
+    out = tmp_path / "out"
+    with pytest.raises(RealIkeaError, match="unknown export format 'obj'.*urdf, usd, mjcf"):
+        export_configurations(_configs(catalog, "drawer"), "obj", "coacd", library, out)
+    with pytest.raises(SystemExit):
+        main(["assets", "export", "--all", "--format", "obj", "--out", str(out)])
+    assert "invalid choice: 'obj'" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_a_configuration_not_built_is_refused_with_how_to_build_it(library, tmp_path, capsys):
+    out = tmp_path / "out"
+    args = ["--part", "knob_round_20", "--base", "flap_w60_h40", "--format", "urdf"]
+    assert main(["assets", "export", *args, "--out", str(out), f"paths.library={library}"]) == 2
+    err = capsys.readouterr().err
+    assert "knob_round_20__flap_w60_h40" in err
+    assert "realikea assets build --part knob_round_20 --base flap_w60_h40" in err
+    assert not out.exists()
+
+
+def test_an_out_that_is_a_file_is_refused(library, tmp_path, capsys):
+    out = tmp_path / "taken.txt"
+    out.write_text("mine")
+    part, base = DRAWER
+    args = ["--part", part, "--base", base, "--format", "usd", "--out", str(out)]
+    assert main(["assets", "export", *args, f"paths.library={library}"]) == 2
+    assert f"--out {out} is an existing file" in capsys.readouterr().err
+    assert out.read_text() == "mine" and sorted(tmp_path.iterdir()) == [out]
