@@ -385,3 +385,9 @@ def test_an_out_that_is_a_file_is_refused(library, tmp_path, capsys):
     assert main(["assets", "export", *args, f"paths.library={library}"]) == 2
     assert f"--out {out} is an existing file" in capsys.readouterr().err
     assert out.read_text() == "mine" and sorted(tmp_path.iterdir()) == [out]
+
+
+def test_the_cli_offers_exactly_the_formats_the_driver_exports():
+    from realikea.assets.export import FORMATS
+
+    assert tuple(driver.EXPORTERS) == FORMATS

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from realikea.assets.build import Resistance, WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, Configuration, catalog_dir
-from realikea.assets.export.driver import EXPORTERS, SOURCES, export_configurations
+from realikea.assets.export import FORMATS, SOURCES
 from realikea.assets.gallery import render_gallery
 from realikea.assets.importer import import_part
 from realikea.assets.split import (
@@ -80,7 +80,7 @@ def register(parser: argparse.ArgumentParser) -> None:
     which.add_argument("--all", action="store_true", help="all part x base configurations")
     which.add_argument("--part", help="one part id (all bases unless --base is given)")
     export.add_argument("--base", help="one base id")
-    export.add_argument("--format", required=True, choices=tuple(EXPORTERS))
+    export.add_argument("--format", required=True, choices=FORMATS)
     export.add_argument(
         "--collision", choices=SOURCES, help="collision source (default: the config's collision)"
     )
@@ -209,6 +209,9 @@ def run_split(args: argparse.Namespace) -> int:
 
 def run_export(args: argparse.Namespace) -> int:
     """Export the selected built configurations and print what was written where."""
+    # imported here: the USD exporter loads usd-core's pxr, 0.4 s no other command needs
+    from realikea.assets.export.driver import export_configurations
+
     cfg = load_config(args.overrides)
     configs = selected_configurations(args, cfg, Catalog.load())
     source = args.collision or str(cfg.collision.source)

@@ -18,7 +18,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from realikea.assets.catalog import Configuration, content_hash
-from realikea.assets.export import mjcf, urdf, usd
+from realikea.assets.export import SOURCES, mjcf, urdf, usd
 from realikea.assets.export.metadata import (
     PART_LINK,
     configuration_metadata,
@@ -30,7 +30,6 @@ from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, repo
 from realikea.files import WORKSPACE, repo_path, staging_dir
 
 EXPORT_VERSION = "1"  # bump when an exporter or metadata.json changes what it writes
-SOURCES = ("coacd", "hull")
 LISTED = 5  # configurations named in an error before "and n more"
 
 
