@@ -33,7 +33,8 @@ def main() -> None:
     print(f"kept {slim_checkpoint(last, out / last.name)}")
     rows = (args.run_dir / "metrics.csv").read_text().splitlines()
     if args.continues:
-        first = min(int(row.split(",")[0]) for row in rows[1:])
+        # the first iteration logged (rsl-rl's `.../time` tags count seconds, not iterations)
+        first = min(int(r.split(",")[0]) for r in rows[1:] if not r.split(",")[1].endswith("/time"))
         earlier = (args.continues / "metrics.csv").read_text().splitlines()
         rows = rows[:1] + [r for r in earlier[1:] if int(r.split(",")[0]) < first] + rows[1:]
     atomic_write_text(out / "metrics.csv", "\n".join(rows) + "\n")
