@@ -18,5 +18,10 @@ for name in coacd hull; do
   python "$HERE/evaluate.py" "$(ls "$HERE/$name"/model_*.pt | sort -V | tail -1)" "$name" \
     --episodes "$EPISODES"
 done
+# the CoACD run continued for 1,000 more iterations (session 7: 63 min beside two other runs)
+python train.py logger=none train.resume=outputs/generalist/coacd_s0/model_1499.pt \
+  agent.max_iterations=1000 hydra.run.dir=outputs/generalist/coacd_s0_cont
+python "$HERE/keep.py" outputs/generalist/coacd_s0_cont coacd_2500 --continues outputs/generalist/coacd_s0
+python "$HERE/evaluate.py" "$HERE/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
 python "$HERE/report.py"
 bash "$HERE/frames.sh" coacd "door flap" 4
