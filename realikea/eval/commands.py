@@ -79,7 +79,8 @@ def run_eval(args: argparse.Namespace) -> int:
             )
         code = int(policy.run_interactive(cfg, args.overrides))
         if record is not None:
-            print(f"LeRobot dataset: {record_demonstration(policy.record, record)}")
+            dataset = record_demonstration(policy.record, record, cfg.paths.library)
+            print(f"LeRobot dataset: {dataset}")
         return code
     result = evaluate(cfg, policy, task_factory=OpenTask if record is None else RecordingTask)
     split = effective_split(cfg.asset)

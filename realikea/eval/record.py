@@ -129,8 +129,10 @@ def write_recording(result: EvalResult, cfg: DictConfig, target: Path) -> Path:
     return write_dataset(target, episodes, features(), fps(cfg), ROBOT_TYPE)
 
 
-def record_demonstration(demonstration: Path, target: Path) -> Path:
-    """A teleoperated demonstration as a LeRobot dataset: replayed through the eval, recorded."""
-    cfg, replay = eval_setup(["policy=replay", f"policy.path={demonstration}"])
+def record_demonstration(demonstration: Path, target: Path, library: str) -> Path:
+    """A teleoperated demonstration as a LeRobot dataset: replayed through the eval on the asset
+    library `library` (its recorded configuration, seed and physics), recorded."""
+    overrides = ["policy=replay", f"policy.path={demonstration}", f"paths.library={library}"]
+    cfg, replay = eval_setup(overrides)
     result = evaluate(cfg, replay, task_factory=RecordingTask)
     return write_recording(result, cfg, target)
