@@ -36,6 +36,7 @@ TASK = "open the drawer by its two-point handle"
 
 @pytest.fixture(scope="module")
 def library(tmp_path_factory):
+    """An asset library of its own: the pinned configuration is built into it."""
     return tmp_path_factory.mktemp("library")
 
 
@@ -186,6 +187,7 @@ def test_a_bad_target_is_refused_before_any_episode(library, tmp_path, capsys, e
 
 
 def _episode(length=3, **overrides) -> lerobot.Episode:
+    """A made-up episode of `FEATURES`, some frames replaced by `overrides`."""
     frames = {"observation.state": np.zeros((length, 2)), "next.reward": np.ones(length)}
     return lerobot.Episode({**frames, **overrides}, "open it", {"outcome": "fail"})
 
@@ -213,6 +215,7 @@ def test_bad_episodes_are_errors_and_write_nothing(tmp_path, episodes, message):
 
 def test_an_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
     def fail(*args, **kwargs):
+        """A disk that fills up while the metadata is written."""
         raise OSError("disk full")
 
     monkeypatch.setattr(lerobot, "_write_json", fail)  # the last files of the folder

@@ -170,6 +170,7 @@ def _frame_columns(episodes, features, tasks, fps) -> tuple[dict, list[tuple[int
 
 
 def _slice(columns: dict, start: int, stop: int) -> dict:
+    """The frames [start, stop) of every column."""
     return {name: values[start:stop] for name, values in columns.items()}
 
 
@@ -233,6 +234,7 @@ def _episodes_table(episodes, tasks, rows, episode_stats) -> pa.Table:
 
 
 def _write_tasks(path: Path, tasks: list[str]) -> None:
+    """meta/tasks.parquet: task -> task_index, the task marked as the pandas index."""
     table = pa.table({"task": tasks, "task_index": pa.array(range(len(tasks)), pa.int64())})
     metadata = {b"pandas": json.dumps(TASKS_PANDAS_METADATA).encode()}
     pq.write_table(table.replace_schema_metadata(metadata), path)
@@ -258,4 +260,5 @@ def _info(features, fps, robot_type, episodes, frames, tasks) -> dict:
 
 
 def _write_json(path: Path, data: dict) -> None:
+    """A JSON file indented as lerobot writes its own."""
     path.write_text(json.dumps(data, indent=4) + "\n")

@@ -33,6 +33,7 @@ class EpisodeSteps:
 
     @property
     def length(self) -> int:
+        """Control steps (frames) of the episode."""
         return len(self.actions)
 
 
@@ -42,6 +43,7 @@ class RecordingTask(OpenTask):
     episode_keys = (*OpenTask.episode_keys, "steps", "config_id", "env_seed")
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
+        """The task of `OpenTask`; it needs the contact monitor (eval's `contacts.log`)."""
         super().__init__(cfg, config_mjcf, seed)
         if self.contact_monitor is None:
             raise RealIkeaError(
@@ -74,6 +76,7 @@ class RecordingTask(OpenTask):
         return result
 
     def _episode_steps(self) -> EpisodeSteps:
+        """The kept steps of the episode as arrays."""
         obs, actions, rewards, openings, forces = zip(*self._rows, strict=True)
         return EpisodeSteps(
             np.array(obs, dtype=np.float64),
