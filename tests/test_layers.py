@@ -17,7 +17,7 @@ PACKAGE = Path(realikea.__file__).parent
 LAYERS = (
     ("errors", "files", "spawn", "config"),
     ("sim",),
-    ("assets", "tasks", "fidelity"),
+    ("assets", "tasks", "fidelity", "datasets"),
     ("pool",),
     ("policies",),
     ("eval", "training"),

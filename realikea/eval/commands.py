@@ -13,14 +13,17 @@ from pathlib import Path
 
 from realikea.assets.catalog import effective_split
 from realikea.assets.library import training_configurations
+from realikea.errors import RealIkeaError
 from realikea.eval.failure_cases import validate
 from realikea.eval.protocol import outcome_table
+from realikea.eval.record import record_demonstration, recording_target, write_recording
 from realikea.eval.runs import rerun
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.sweep import run_sweep
 from realikea.eval.table import run_table
 from realikea.eval.video import record_strategies
 from realikea.tasks.open_task import OpenTask
+from realikea.tasks.recording import RecordingTask
 
 SUBCOMMANDS = ("run", "table", "sweep", "rerun", "failures")
 OVERRIDES_HELP = "Hydra overrides, e.g. asset=two_point resistance=high episodes=50"
@@ -64,10 +67,22 @@ def register(parser: argparse.ArgumentParser) -> None:
 
 
 def run_eval(args: argparse.Namespace) -> int:
+    """`realikea eval [run] OVERRIDES`: the outcome table, the JSON line last; `record=DIR` also
+    writes the episodes as a LeRobot dataset (a teleop session's demonstration, replayed)."""
     cfg, policy = eval_setup(args.overrides)
+    record = recording_target(cfg)  # a bad folder stops here, before any episode runs
     if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
-        return int(policy.run_interactive(cfg, args.overrides))
-    result = evaluate(cfg, policy)
+        if record is not None and getattr(policy, "record", None) is None:
+            raise RealIkeaError(
+                "record=DIR with policy=teleop converts the session's demonstration: "
+                "add policy.record=FILE.npz"
+            )
+        code = int(policy.run_interactive(cfg, args.overrides))
+        if record is not None:
+            dataset = record_demonstration(policy.record, record, cfg.paths.library)
+            print(f"LeRobot dataset: {dataset}")
+        return code
+    result = evaluate(cfg, policy, task_factory=OpenTask if record is None else RecordingTask)
     split = effective_split(cfg.asset)
     print(
         f"policy {cfg.policy.name} on asset={cfg.asset.category} split={split}"
@@ -83,5 +98,7 @@ def run_eval(args: argparse.Namespace) -> int:
         stem = Path(cfg.video_path or "outputs/eval.mp4")
         for label, path in record_strategies(tasks, policy, int(cfg.video_episodes), stem).items():
             print(f"video ({label}): {path}")
+    if record is not None:
+        print(f"LeRobot dataset: {write_recording(result, cfg, record)}")
     print(json.dumps({**result.summary(), "split": split}))
     return 0

@@ -3,6 +3,8 @@ split by default) and the policy, then episodes on an env pool."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.split import with_default_split
@@ -11,6 +13,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult, run_episodes
 from realikea.policies.registry import make_policy
 from realikea.pool.env_pool import EnvPool
+from realikea.tasks.open_task import OpenTask
 
 # groups a checkpoint brings from its own run unless the command line overrides them
 RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
@@ -46,11 +49,14 @@ def eval_setup(overrides: list[str]):
     return cfg, policy
 
 
-def evaluate(cfg: DictConfig, policy, progress: bool = True) -> EvalResult:
-    """`cfg.episodes` episodes of `policy` on an env pool of at most `cfg.env.num_envs` envs."""
+def evaluate(
+    cfg: DictConfig, policy, progress: bool = True, task_factory: Callable = OpenTask
+) -> EvalResult:
+    """`cfg.episodes` episodes of `policy` on an env pool of at most `cfg.env.num_envs` envs
+    running `task_factory`'s tasks (e.g. `RecordingTask`, whose episodes carry their steps)."""
     episodes = int(cfg.episodes)
     if episodes < 1:
         raise RealIkeaError(f"episodes={episodes}: use 1 or more")
     cfg.env.num_envs = min(episodes, int(cfg.env.num_envs))
-    with EnvPool.from_config(cfg) as pool:
+    with EnvPool.from_config(cfg, task_factory=task_factory) as pool:
         return run_episodes(pool, policy, episodes, progress=progress)

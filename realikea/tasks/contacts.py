@@ -27,6 +27,8 @@ SUMMARY_KEYS = (
     "strategy", "pull_seconds", "pull_normal", "pull_friction", "friction_share", "front_share",
     "grip_force", "normal_angle_deg", "peak_pull", "peak_slip_ratio",
 )  # fmt: skip
+# what `sample_forces` gives for one sample of the contacts (N)
+SAMPLE_FORCES = ("part_normal", "part_friction", "front_normal", "front_friction", "grip")
 
 
 @dataclass(frozen=True)
@@ -146,11 +148,8 @@ class ContactMonitor:
         `contacts` as `forces` gives them, `u` the opening direction, `rate` the front's."""
         if rate < p.min_opening_rate or not contacts:
             return
-        along = [(float(n @ u), float(f @ u), part) for n, f, _, part in contacts]
-        normal = sum(n for n, _, part in along if part)
-        friction = sum(f for _, f, part in along if part)
-        front_normal = sum(n for n, _, part in along if not part)
-        front_friction = sum(f for _, f, part in along if not part)
+        along = _along(contacts, u)
+        normal, friction, front_normal, front_friction = _pull_sums(along)
         # each place counts only when it pulls (a finger pressing the panel closed is no pull)
         pulls = [max(normal + friction, 0.0), max(front_normal + front_friction, 0.0)]
         pull = sum(pulls)
@@ -172,3 +171,27 @@ class ContactMonitor:
             by_friction = (friction if pulls[0] else 0.0) + (front_friction if pulls[1] else 0.0)
             log.peak_pull = pull
             log.peak_slip_ratio = max(by_friction, 0.0) / capacity if capacity > 0 else 0.0
+
+
+def _along(contacts, u) -> list[tuple[float, float, bool]]:
+    """(normal, friction, on the part) of every contact, projected on the opening direction u."""
+    return [(float(n @ u), float(f @ u), part) for n, f, _, part in contacts]
+
+
+def _pull_sums(along) -> tuple[float, float, float, float]:
+    """Normal and friction force along u on the part, then on the front off the part."""
+    normal = sum(n for n, _, part in along if part)
+    friction = sum(f for _, f, part in along if part)
+    front_normal = sum(n for n, _, part in along if not part)
+    front_friction = sum(f for _, f, part in along if not part)
+    return normal, friction, front_normal, front_friction
+
+
+def sample_forces(contacts, u) -> tuple[float, ...]:
+    """One sample's `SAMPLE_FORCES`: the gripper's normal and friction force along the opening
+    direction u on the part and on the front off it (positive pulls the front open), and its
+    grip (half the sum of the normal force magnitudes); all zero without contacts."""
+    if not contacts:
+        return (0.0,) * len(SAMPLE_FORCES)
+    grip = 0.5 * sum(float(np.linalg.norm(n)) for n, _, _, _ in contacts)
+    return (*_pull_sums(_along(contacts, u)), grip)

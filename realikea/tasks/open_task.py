@@ -33,7 +33,14 @@ from realikea.sim.scene import (
     subtree_geoms,
 )
 from realikea.tasks import observations
-from realikea.tasks.contacts import SUMMARY_KEYS, ClassifierParams, ContactLog, ContactMonitor
+from realikea.tasks.contacts import (
+    SAMPLE_FORCES,
+    SUMMARY_KEYS,
+    ClassifierParams,
+    ContactLog,
+    ContactMonitor,
+    sample_forces,
+)
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonitor, FailureParams
 from realikea.tasks.outcome import outcome
@@ -160,6 +167,7 @@ class OpenTask:
             self.contact_monitor = ContactMonitor(m, gripper_bodies, parts, panel)
             robot = subtree_geoms(m, self._base)
             self.failure_monitor = FailureMonitor(m, robot, parts + panel)
+        self._step_forces, self._step_samples = np.zeros(len(SAMPLE_FORCES)), 0
 
     # --- reading the scene ----------------------------------------------------------------
     @property
@@ -277,6 +285,7 @@ class OpenTask:
             mujoco.mj_step(self.model, self.data, nstep=self.decimation)
             return
         every = self.classifier.sample_substeps  # same physics, sampled between substeps
+        self._step_forces[:], self._step_samples = 0.0, 0
         for _ in range(self.decimation // every):
             mujoco.mj_step(self.model, self.data, nstep=every)
             self._sample_contacts()
@@ -290,6 +299,8 @@ class OpenTask:
         u = self.pull_direction() if contacts else None
         rate = float(d.qvel[self._front_v])
         self.contact_monitor.record(self.state.contacts, contacts, u, rate, self.classifier)
+        self._step_forces += sample_forces(contacts, u)
+        self._step_samples += 1
         reach = float(np.linalg.norm(d.site_xpos[self._tcp] - d.site_xpos[self._handle]))
         pitch = tcp_pitch(d.site_xmat[self._tcp].reshape(3, 3), self.nominal)
         self.failure_monitor.record(
@@ -304,7 +315,9 @@ class OpenTask:
 
     def evaluate(self, ik_ok: bool) -> StepResult:
         """Reward (the weighted `REWARD_TERMS`), terminations (`TERMINATIONS`) and info after the
-        physics of a control step; an episode's end carries each term's sum in `reward_terms`."""
+        physics of a control step; an episode's end carries each term's sum in `reward_terms`.
+        With the contact monitor on, every step's info carries `contact_forces`: the mean over
+        the step's samples of `contacts.SAMPLE_FORCES` (N)."""
         s, p, a = self.state, self.params, self._last_action
         s.steps += 1
         diverged = self.diverged()
@@ -334,6 +347,8 @@ class OpenTask:
         terminated = ended is not None
         truncated = not terminated and s.steps >= self.horizon
         info = {"opening": opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
+        if self.contact_monitor is not None:
+            info["contact_forces"] = (self._step_forces / max(self._step_samples, 1)).tolist()
         if terminated or truncated:
             info["outcome"] = str(outcome(opening, self.joint_type, self.outcome_thresholds))
             info["termination"] = ended or TIMEOUT

@@ -1,0 +1,1 @@
+"""Datasets the project writes for other tools (LeRobot)."""
