@@ -18,6 +18,7 @@ LAYERS = (
     ("errors", "files", "spawn", "config"),
     ("sim",),
     ("assets", "tasks", "fidelity", "datasets"),
+    ("interop",),
     ("pool",),
     ("policies",),
     ("eval", "training"),
