@@ -8,9 +8,9 @@ the wrist over the whole episode, whether the front moved or not.
   its friction at `saturated` of the contacts' capacity (sliding, not holding);
 - mutual_interference: the robot pressed the scene off the moving front (a neighbouring front,
   the worktop, the carcass) with at least `blocked_force` N for `blocked_seconds`;
-- narrow_clearance: the hand reached the part (touched the front, or its TCP came within `reach`
-  m of the handle) but no finger got behind or under it (normal force along the opening
-  direction below `behind_pull` N);
+- narrow_clearance: the hand reached the part (touched it, or its TCP came within `reach` m of
+  the handle) but no finger got behind or under it (normal force along the opening direction
+  below `behind_pull` N);
 - specialized_design: the same, on a part that needs a wrist turn to catch it (a knob's lever, a
   finger pull's lip: the hook oracle's wedge pitches) that the policy never made (pitch never
   `turn` rad from where the episode began);
@@ -67,7 +67,7 @@ class FailureLog:
     squeeze: float = 0.0  # N: the largest opposing normal force on the front
     behind: float = 0.0  # N: the largest normal pull along u on the front
     closest: float = math.inf  # m: the TCP's closest approach to the handle
-    touched: int = 0  # samples with the gripper touching the front (the part or the panel)
+    touched: int = 0  # samples with the gripper touching the part
     blocked: int = 0  # samples of the robot pressing the scene off the front
     start_pitch: float | None = None
     turned: float = 0.0  # rad: the largest |pitch - start_pitch|
@@ -147,7 +147,7 @@ class FailureMonitor:
             log.blocked += 1
         if not contacts:
             return
-        log.touched += 1
+        log.touched += int(any(on_part for _, _, _, on_part in contacts))
         # normal forces that cancel: the jaws against each other, not the hand pushing
         magnitude = sum(float(np.linalg.norm(c[0])) for c in contacts)
         resultant = float(np.linalg.norm(sum(c[0] for c in contacts)))
