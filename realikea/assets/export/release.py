@@ -65,9 +65,15 @@ def catalog_counts(catalog: Catalog | None = None) -> dict:
     `realikea assets release --counts`."""
     catalog = catalog if catalog is not None else Catalog.load(CATALOG_DIR)
     bases = list(catalog.bases.values())
+    families: dict[str, int] = {}
+    for part in catalog.parts.values():
+        families[part.family] = families.get(part.family, 0) + 1
+    splits = {s: sum(catalog.split_of(p) == s for p in catalog.parts) for s in ("train", "test")}
     return {
         "parts": len(catalog.parts),
         "parts_per_category": {c: len(catalog.parts_in(c)) for c in CATEGORIES},
+        "parts_per_family": families,
+        "parts_per_split": splits if catalog.split is not None else None,
         "bases": len(bases),
         "bases_per_kind": {k: sum(b.kind == k for b in bases) for k in BASE_KINDS},
         "configurations": catalog.n_configurations,
