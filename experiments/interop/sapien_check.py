@@ -100,6 +100,7 @@ def _q(value: float, joint_type: str) -> str:
 
 
 def _pct(value: float | None) -> str:
+    """A relative difference in per cent, or a dash where there is none."""
     return "–" if value is None else f"{100 * value:.2f} %"
 
 

@@ -125,6 +125,7 @@ class Hasher:
     library's meshes are hard links of one cache file, shared by a part's 13 configurations."""
 
     def __init__(self, root: Path):
+        """Entries relative to `root`, the release folder."""
         self.root = Path(root)
         self.digests: dict[tuple[int, int, int, int], str] = {}
 
