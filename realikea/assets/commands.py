@@ -1,4 +1,4 @@
-"""`realikea assets ...`: build, list, gallery, import, split and export."""
+"""`realikea assets ...`: build, list, gallery, import, split, export and release."""
 
 from __future__ import annotations
 
@@ -87,6 +87,37 @@ def register(parser: argparse.ArgumentParser) -> None:
     export.add_argument("--out", type=Path, required=True, help="output folder")
     export.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
     export.set_defaults(run=run_export)
+
+    release = commands.add_parser(
+        "release",
+        help="write the whole library in every format with DATASET.md and manifest.json",
+        description=(
+            "Export every built configuration (see `realikea assets build --all`) in each "
+            "format and collision source into OUT/<format>_<collision>/<config id>/, copy "
+            "DATASET.md in and write OUT/manifest.json last: every file's path, size and "
+            "SHA-256 per configuration, with its fidelity certificate, and totals. A rerun "
+            "skips configurations whose export is complete and current and rewrites the "
+            "manifest. Hydra overrides (e.g. paths.library=DIR) go before the flags or after --."
+        ),
+    )
+    release.add_argument("--out", type=Path, help="release folder (required unless --counts)")
+    release.add_argument(
+        "--collision",
+        nargs="+",
+        choices=SOURCES,
+        default=list(SOURCES),
+        help="collision sources (default: all)",
+    )
+    release.add_argument(
+        "--formats", nargs="+", choices=FORMATS, default=list(FORMATS), help="(default: all)"
+    )
+    release.add_argument(
+        "--counts",
+        action="store_true",
+        help="print the catalog counts DATASET.md quotes (YAML) and write nothing",
+    )
+    release.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
+    release.set_defaults(run=run_release)
 
 
 def selected_configurations(args: argparse.Namespace, cfg, catalog: Catalog) -> list[Configuration]:
@@ -225,4 +256,35 @@ def run_export(args: argparse.Namespace) -> int:
         f" exported {report.exported}, up to date {report.current}"
     )
     print(f"folder: {report.folder}")
+    return 0
+
+
+def run_release(args: argparse.Namespace) -> int:
+    """Release the whole built library (or print the catalog counts) and say what was written."""
+    from realikea.assets.export import release  # loads the exporters (usd-core's pxr)
+
+    if args.counts:
+        import yaml
+
+        print(yaml.safe_dump({"counts": release.catalog_counts()}, sort_keys=False), end="")
+        return 0
+    if args.out is None:
+        raise RealIkeaError("give the release folder: --out DIR (or --counts)")
+    cfg = load_config(args.overrides)
+    configs = release.library_configurations()
+    start = time.perf_counter()
+    report = release.release_library(
+        configs, repo_path(cfg.paths.library), args.out, args.formats, args.collision
+    )
+    seconds = time.perf_counter() - start
+    for name, exported in report.exported.items():
+        print(f"{name}: exported {exported}, up to date {report.current[name]}")
+    print(
+        f"{len(configs)} configurations in {seconds:.1f} s: {report.files} files, "
+        f"{report.bytes / 1e6:.1f} MB; manifest: {report.manifest}"
+    )
+    if report.unlisted:
+        shown = ", ".join(report.unlisted[:5])
+        more = f" and {len(report.unlisted) - 5} more" if len(report.unlisted) > 5 else ""
+        print(f"not in the manifest ({len(report.unlisted)}): {shown}{more}")
     return 0
