@@ -29,15 +29,15 @@ GRIDS = {  # folder -> what was trained
     "hull": "hull, 1,500 iterations",
     "coacd_2500": "CoACD, continued to 2,500 iterations",
 }
-COMPARISONS = (
-    ("coacd", "hull", "CoACD vs hull"),
-    ("coacd_2500", "coacd", "2,500 vs 1,500 iterations (CoACD)"),
+COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
+    ("coacd", "hull", "CoACD vs hull", ("CoACD", "hull")),
+    ("coacd_2500", "coacd", "2,500 vs 1,500 iterations (CoACD)", ("2,500 its", "1,500 its")),
 )
 
 
-def comparison_lines(a: dict, b: dict, title: str) -> list[str]:
+def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> list[str]:
     """Per-cell and pooled differences of two grids (a − b) with Newcombe's interval."""
-    lines = [f"## {title}", "", difference_table(a, b), ""]
+    lines = [f"## {title}", "", difference_table(a, b, names), ""]
     for mode in MODES:
         (k1, n1), (k2, n2) = pooled(a, mode), pooled(b, mode)
         if n1 and n2:
@@ -68,9 +68,9 @@ def main() -> None:
             if n:
                 lines.append(f"- all cells, {mode}: {describe(k, n)}")
         lines.append("")
-    for a, b, title in COMPARISONS:
+    for a, b, title, names in COMPARISONS:
         if a in grids and b in grids:
-            lines += comparison_lines(grids[a], grids[b], title)
+            lines += comparison_lines(grids[a], grids[b], title, names)
     atomic_write_text(HERE / "table.md", "\n".join(lines))
     print("\n".join(lines))
 
