@@ -154,3 +154,19 @@ def test_handle_site_sits_on_the_part(sample_library):
         front = data.geom("front_visual")
         outer_face = front.xpos[0] + model.geom("front_visual").size[0]
         assert outer_face < handle[0] < outer_face + 0.05, row["config_id"]
+
+
+def test_the_index_skips_another_process_staging_folder(sample_library, tmp_path):
+    """A configuration another process is still writing (its hidden staging folder) is not
+    indexed: it may be renamed away between listing and reading."""
+    from realikea.assets.build import write_index
+
+    out, _ = sample_library
+    library = tmp_path / "library"
+    shutil.copytree(out, library)
+    first = next(p for p in library.iterdir() if (p / "build.json").is_file())
+    staging = library / f".{first.name}.abc123.tmp"
+    shutil.copytree(first, staging)
+    with (write_index(library)).open() as f:
+        ids = [r["config_id"] for r in csv.DictReader(f)]
+    assert len(ids) == len(set(ids)) == sum(1 for p in library.glob("[!.]*/build.json"))

@@ -307,8 +307,11 @@ def build_library(
 
 
 def write_index(out_dir: Path) -> Path:
-    """index.csv of every configuration folder under `out_dir` (written atomically)."""
-    rows = [json.loads(p.read_text())["row"] for p in sorted(out_dir.glob("*/build.json"))]
+    """index.csv of every configuration folder under `out_dir` (written atomically). Another
+    process's staging folders (`.<id>.<random>.tmp`, renamed into place when complete) are not
+    configurations: reading one could race with its rename."""
+    found = sorted(out_dir.glob("*/build.json"))
+    rows = [json.loads(p.read_text())["row"] for p in found if not p.parent.name.startswith(".")]
     buffer = io.StringIO()
     writer = csv.DictWriter(buffer, INDEX_COLUMNS, restval="", lineterminator="\n")
     writer.writeheader()
