@@ -9,6 +9,7 @@ import trimesh
 
 from realikea.assets.build import build_parts
 from realikea.assets.library import load_model, read_index
+from realikea.interop.pull import pull_at_handle
 
 # A Franka Hand fingertip: about 18 mm wide along the bar, 8 mm thick across the gap, 0.1 kg.
 PROBE_HALF = (0.009, 0.008, 0.004)  # x (along bar), y (push direction), z (gap depth)
@@ -104,25 +105,6 @@ def test_hull_seals_the_finger_gap_and_coacd_keeps_it_open(catalog, settings, ca
     assert not failures, "\n".join(failures)
 
 
-def _turn_at_handle(model: mujoco.MjModel, force: float, seconds: float) -> float:
-    """Pull at the handle site along its direction of opening (following the front as it
-    turns) and return the hinge's angle."""
-    data = mujoco.MjData(model)
-    site, front = model.site("handle").id, model.body("front").id
-    jac = np.zeros((3, model.nv))
-    for _ in range(int(seconds / model.opt.timestep)):
-        mujoco.mj_forward(model, data)
-        mujoco.mj_jacSite(model, data, jac, None, site)
-        direction = jac[:, 0] / np.linalg.norm(jac[:, 0])
-        data.qfrc_applied[:] = 0
-        mujoco.mj_applyFT(
-            model, data, force * direction, np.zeros(3), data.site_xpos[site], front,
-            data.qfrc_applied,
-        )  # fmt: skip
-        mujoco.mj_step(model, data)
-    return float(data.qpos[0])
-
-
 @pytest.mark.parametrize("kind", ["door", "flap"])
 def test_hinged_fronts_break_away_at_the_handle_like_a_drawer(sample_library, kind):
     """The built MJCFs (high: drawer friction 20 N) resist a pull at a door's or flap's handle
@@ -132,5 +114,5 @@ def test_hinged_fronts_break_away_at_the_handle_like_a_drawer(sample_library, ki
     assert rows
     for row in rows:
         model = load_model(out / row["mjcf_coacd"])  # the resistance as built
-        assert abs(_turn_at_handle(model, 0.8 * 20.0, 0.5)) < 2e-3, row["config_id"]
-        assert _turn_at_handle(model, 1.3 * 20.0, 0.5) > 0.02, row["config_id"]
+        assert abs(pull_at_handle(model, 0.8 * 20.0, 0.5).q[-1]) < 2e-3, row["config_id"]
+        assert pull_at_handle(model, 1.3 * 20.0, 0.5).q[-1] > 0.02, row["config_id"]

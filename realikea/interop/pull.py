@@ -53,12 +53,16 @@ def breakaway_force(joint_type: str, frictionloss: float, anchor, axis, handle) 
 def mujoco_pull(
     mjcf: Path, force: float, seconds: float = 1.0, timestep: float | None = None
 ) -> Trajectory:
-    """Pull a built model at its `handle` site with `force` newtons along the site's direction
-    of opening (following the front as it turns), as tests/test_physics.py does; `timestep`
-    replaces the model's own."""
+    """`pull_at_handle` on a built MJCF; `timestep` replaces the model's own."""
     model = load_model(mjcf)
     if timestep is not None:
         model.opt.timestep = timestep
+    return pull_at_handle(model, force, seconds)
+
+
+def pull_at_handle(model: mujoco.MjModel, force: float, seconds: float = 1.0) -> Trajectory:
+    """Pull a configuration's model at its `handle` site with `force` newtons along the site's
+    direction of opening (following the front as it turns) for `seconds`."""
     data = mujoco.MjData(model)
     site, front = model.site("handle").id, model.body("front").id
     jac = np.zeros((3, model.nv))
