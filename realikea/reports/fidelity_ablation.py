@@ -269,8 +269,9 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
         f"## Failure modes (evaluated in {mode})",
         "",
         "Fraction of all episodes that failed (fail or partial) in each mode "
-        "(realikea/tasks/failure_modes.py; validated in [failure_modes.md](failure_modes.md)), "
-        "mean over seeds; they add up to 1 − success.",
+        "(realikea/tasks/failure_modes.py; validated in "
+        "experiments/fidelity_ablation/failure_modes.md), mean over seeds; they add up to "
+        "1 − success.",
         "",
         "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
         "|---|---|---|" + "---:|" * len(FAILURE_MODES),
