@@ -1,8 +1,9 @@
-"""`realikea assets ...`: build, list, gallery, import, split, export and release."""
+"""`realikea assets ...`: build, list, gallery, import, split, export, release and verify."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -116,8 +117,28 @@ def register(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="print the catalog counts DATASET.md quotes (YAML) and write nothing",
     )
+    release.add_argument(
+        "--verify",
+        action="store_true",
+        help="then reload every exported model in its own tool (MuJoCo, PyBullet, usd-core) "
+        "and write OUT/verification.json; exit 1 if any fails",
+    )
     release.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
     release.set_defaults(run=run_release)
+
+    verify = commands.add_parser(
+        "verify",
+        help="reload every exported model of a release or export folder in its own tool",
+        description=(
+            "Reload each configuration folder of a release (those its manifest.json lists) or "
+            "of an export folder (every OUT/<format>_<collision>/<config id>/) in its tool: "
+            "MJCF in MuJoCo, URDF in PyBullet, USD in usd-core, checking the joint and one "
+            "collision shape per convex piece against metadata.json. Writes "
+            "DIR/verification.json; exits 1 if any folder fails."
+        ),
+    )
+    verify.add_argument("folder", type=Path, help="a release folder or an export --out folder")
+    verify.set_defaults(run=run_verify)
 
 
 def selected_configurations(args: argparse.Namespace, cfg, catalog: Catalog) -> list[Configuration]:
@@ -287,4 +308,30 @@ def run_release(args: argparse.Namespace) -> int:
         shown = ", ".join(report.unlisted[:5])
         more = f" and {len(report.unlisted) - 5} more" if len(report.unlisted) > 5 else ""
         print(f"not in the manifest ({len(report.unlisted)}): {shown}{more}")
-    return 0
+    return verify_and_record(args.out) if args.verify else 0
+
+
+def verify_and_record(folder: Path) -> int:
+    """Reload every exported model under `folder` in its tool, write verification.json and print
+    the counts; 1 (naming the first failures) if any failed, else 0."""
+    from realikea.assets.export import verify  # loads MuJoCo, PyBullet and usd-core's pxr
+
+    report = verify.verify_release(folder)
+    path = verify.write_verification(report)
+    for name, counts in report.folders.items():
+        print(f"{name}: verified {counts['ok']} of {counts['configurations']}")
+    print(f"{report.checked} folders verified in {report.seconds:.1f} s; verification: {path}")
+    if report.ok:
+        return 0
+    lines = "\n  ".join(verify.failure_lines(report))
+    print(
+        f"realikea: verification failed: {len(report.failures)} of {report.checked} folders do "
+        f"not reload as their metadata.json describes:\n  {lines}",
+        file=sys.stderr,
+    )
+    return 1
+
+
+def run_verify(args: argparse.Namespace) -> int:
+    """Verify a release or export folder (`realikea assets verify DIR`)."""
+    return verify_and_record(args.folder)

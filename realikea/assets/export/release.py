@@ -7,7 +7,8 @@ The exports are resumable and cached: a rerun re-exports only configurations who
 changed, and a configuration folder appears only once complete. The manifest is removed before
 anything is exported and written last, atomically: a manifest in OUT always describes the
 folders beside it, and an interrupted release leaves none. It holds no time stamp, so a rerun
-over unchanged folders rewrites it byte for byte.
+over unchanged folders rewrites it byte for byte. `verification.json` (`--verify`,
+export/verify.py) is written after it and, like it, removed when a release starts.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from realikea.files import CATALOG_DIR, atomic_path, atomic_write_text, repo_pat
 
 CARD = "DATASET.md"  # the dataset card, at the repository root and in every release
 MANIFEST = "manifest.json"
+VERIFICATION = "verification.json"  # written beside the manifest by `--verify` (export/verify.py)
 MANIFEST_VERSION = "1"  # bump when the manifest's layout changes
 DATASET = "Real-IKEA"
 CHUNK = 1 << 20  # bytes read at a time when hashing
@@ -270,7 +272,11 @@ def unlisted_entries(
     out = Path(out)
     names = {f"{fmt}_{source}" for fmt in formats for source in sources}
     ids = {c.id for c in configs}
-    extra = [p.name for p in sorted(out.iterdir()) if p.name not in names | {CARD, MANIFEST}]
+    extra = [
+        p.name
+        for p in sorted(out.iterdir())
+        if p.name not in names | {CARD, MANIFEST, VERIFICATION}
+    ]
     for name in sorted(names):
         extra += [f"{name}/{p.name}" for p in sorted((out / name).iterdir()) if p.name not in ids]
     return extra
@@ -295,6 +301,7 @@ def release_library(
     check_release(configs, formats, sources, library, out, card)
     manifest = out / MANIFEST
     manifest.unlink(missing_ok=True)  # stale from here on, until rewritten at the end
+    (out / VERIFICATION).unlink(missing_ok=True)  # verified the folders about to change
     out.mkdir(parents=True, exist_ok=True)
     exported, current = {}, {}
     pairs = [(fmt, source) for fmt in formats for source in sources]

@@ -1,0 +1,190 @@
+"""`realikea assets verify` and `release --verify`: every exported model reloads in its own tool
+(MJCF in MuJoCo, URDF in PyBullet, USD in usd-core) as its metadata.json describes it; a damaged
+file is reported by name and the command exits non-zero."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+from conftest import build_sample
+from pxr import Usd
+
+from realikea.assets.export import FORMATS, SOURCES, release
+from realikea.assets.export.driver import export_configurations, export_folder
+from realikea.assets.export.release import MANIFEST, VERIFICATION, release_library
+from realikea.assets.export.verify import verify_folder, verify_release
+from realikea.cli import main
+
+PAIRS = (("tp_round_bar_128", "drawer_w60_h20"), ("knob_round_30", "door_left_w40_h80"))
+FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
+
+
+@pytest.fixture(scope="module")
+def configs(catalog):
+    """A drawer with a bar and a door with a knob."""
+    return [next(catalog.configurations(part=p, base=b)) for p, b in PAIRS]
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory, configs, settings, cache_root):
+    """The two configurations built for both sources in high resistance."""
+    out = tmp_path_factory.mktemp("library")
+    build_sample(configs, settings, cache_root, out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def released(tmp_path_factory, configs, library):
+    """A release of the two configurations in every format and source, not verified."""
+    out = tmp_path_factory.mktemp("release") / "release"
+    release_library(configs, library, out, progress=False)
+    return out
+
+
+@pytest.fixture
+def damaged(released, tmp_path):
+    """A copy of the release to damage (its files copied: the release's meshes are hard links
+    of the shared cache's, never to be written)."""
+    out = tmp_path / "release"
+    shutil.copytree(released, out)
+    return out
+
+
+def _verification(out) -> dict:
+    return json.loads((out / VERIFICATION).read_text())
+
+
+def _release(library, out, *flags) -> int:
+    return main(["assets", "release", f"paths.library={library}", "--out", str(out), *flags])
+
+
+# --------------------------------------------------------------------------------- clean
+
+
+def test_a_clean_release_verifies_and_writes_verification_json(
+    configs, library, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+    out = tmp_path / "release"
+    assert _release(library, out, "--verify") == 0
+    printed = capsys.readouterr().out
+    assert "urdf_coacd: verified 2 of 2" in printed
+    assert f"verification: {out / VERIFICATION}" in printed
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [release.CARD, MANIFEST, VERIFICATION, *FOLDERS]
+    )
+    record = _verification(out)
+    assert record["failures"] == [] and record["totals"] == {
+        "configurations": 12,
+        "ok": 12,
+        "failed": 0,
+    }
+    assert set(record["folders"]) == set(FOLDERS)
+    for name, counts in record["folders"].items():
+        assert (counts["configurations"], counts["ok"], counts["failed"]) == (2, 2, 0)
+        assert f"{counts['format']}_{counts['collision']}" == name and counts["seconds"] > 0
+    assert record["seconds"] > 0 and all(record["tools"].values())
+    assert record["manifest_sha256"] == release.sha256_file(out / MANIFEST)
+    # a rerun without --verify leaves no verification of folders it may have changed
+    assert _release(library, out) == 0
+    assert not (out / VERIFICATION).exists() and (out / MANIFEST).is_file()
+    assert "not in the manifest" not in capsys.readouterr().out
+
+
+def test_each_folder_says_what_was_checked(released, configs):
+    for fmt in FORMATS:
+        for source in SOURCES:
+            result = verify_folder(export_folder(released, fmt, source, configs[1].id), fmt)
+            assert result.ok and result.error is None, result.error
+            assert result.file.name == f"model_{source}" + {"urdf": ".urdf", "usd": ".usd"}.get(
+                fmt, ".xml"
+            )
+            assert "one per listed convex piece" in result.checked[-1]
+            assert "front_joint (hinge)" in " ".join(result.checked)
+
+
+def test_an_export_folder_without_a_manifest_is_walked(configs, library, tmp_path):
+    export_configurations(configs, "usd", "hull", library, tmp_path, progress=False)
+    report = verify_release(tmp_path, progress=False)
+    assert (
+        report.ok and report.folders["usd_hull"]["ok"] == 2 and list(report.folders) == ["usd_hull"]
+    )
+    alone = verify_release(tmp_path / "usd_hull", progress=False)  # the format folder itself
+    assert alone.ok and alone.checked == 2
+
+
+# --------------------------------------------------------------------------------- damaged
+
+
+def _failures(out) -> dict[str, str]:
+    """verification.json's failures: the error by the file it names."""
+    return {f["file"]: f["error"] for f in _verification(out)["failures"]}
+
+
+def test_a_truncated_urdf_fails_by_name_and_the_command_exits_non_zero(damaged, configs, capsys):
+    urdf = export_folder(damaged, "urdf", "coacd", configs[0].id) / "model_coacd.urdf"
+    urdf.write_bytes(urdf.read_bytes()[: urdf.stat().st_size // 2])
+    assert main(["assets", "verify", str(damaged)]) == 1
+    name = urdf.relative_to(damaged).as_posix()
+    err = capsys.readouterr().err
+    assert "verification failed: 1 of 12 folders" in err and name in err
+    failures = _failures(damaged)
+    assert list(failures) == [name] and "PyBullet: Cannot load URDF file" in failures[name]
+    assert _verification(damaged)["folders"]["urdf_coacd"]["failed"] == 1
+
+
+def test_a_usd_missing_a_collision_prim_fails_by_name(damaged, configs, capsys):
+    usd = export_folder(damaged, "usd", "coacd", configs[0].id) / "model_coacd.usd"
+    stage = Usd.Stage.Open(str(usd))
+    part = stage.GetDefaultPrim().GetPath().AppendChild("part")
+    assert stage.RemovePrim(part.AppendChild("part_collision_000"))
+    stage.GetRootLayer().Save()
+    assert main(["assets", "verify", str(damaged)]) == 1
+    name = usd.relative_to(damaged).as_posix()
+    assert name in capsys.readouterr().err
+    (error,) = _failures(damaged).values()
+    pieces = len(list((usd.parent.parent.parent / "urdf_coacd" / configs[0].id).rglob("coacd_*")))
+    assert f"{pieces - 1} convexHull collision meshes on the 'part' link" in error
+    assert f"urdf_coacd/{configs[0].id}/metadata.json lists {pieces} convex pieces" in error
+
+
+def test_a_mesh_the_mjcf_references_deleted_fails_naming_it(damaged, configs, capsys):
+    folder = export_folder(damaged, "mjcf", "hull", configs[1].id)
+    (folder / "meshes" / "hull_000.stl").unlink()
+    assert main(["assets", "verify", str(damaged)]) == 1
+    name = (folder / "model_hull.xml").relative_to(damaged).as_posix()
+    assert name in capsys.readouterr().err
+    failures = _failures(damaged)
+    assert list(failures) == [name] and "meshes/hull_000.stl" in failures[name]
+
+
+def test_a_folder_the_manifest_lists_that_is_gone_fails(damaged, configs):
+    gone = export_folder(damaged, "usd", "hull", configs[1].id)
+    shutil.rmtree(gone)
+    report = verify_release(damaged, progress=False)
+    (failure,) = report.failures
+    assert failure.folder == gone and failure.error == f"listed in {MANIFEST} but missing"
+    assert report.folders["usd_hull"] == {**report.folders["usd_hull"], "ok": 1, "failed": 1}
+
+
+def test_release_verify_exits_non_zero_when_a_model_does_not_reload(
+    configs, library, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+    out = tmp_path / "release"
+    assert _release(library, out, "--formats", "mjcf", "--collision", "hull") == 0
+    xml = export_folder(out, "mjcf", "hull", configs[0].id) / "model_hull.xml"
+    xml.write_text("<mujoco/>")  # the release re-exports only when its export key changes
+    assert _release(library, out, "--formats", "mjcf", "--collision", "hull", "--verify") == 1
+    err = capsys.readouterr().err
+    assert f"mjcf_hull/{configs[0].id}/model_hull.xml: 0 joints" in err
+    assert _verification(out)["totals"] == {"configurations": 2, "ok": 1, "failed": 1}
+
+
+def test_a_folder_that_is_not_an_export_is_refused(tmp_path, capsys):
+    assert main(["assets", "verify", str(tmp_path)]) == 2
+    assert "holds no exported configuration" in capsys.readouterr().err
+    assert main(["assets", "verify", str(tmp_path / "absent")]) == 2
+    assert "is not a folder" in capsys.readouterr().err
