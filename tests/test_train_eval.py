@@ -88,6 +88,7 @@ def test_eval_prints_fractions_and_a_json_line(run, capsys):
     lines = capsys.readouterr().out.strip().splitlines()
     summary = json.loads(lines[-1])
     keys = {"episodes", "fail", "partial", "success", "strategies", "success_strategies", "split"}
+    keys |= {"failure_modes"}  # why each failed episode failed (realikea/tasks/failure_modes.py)
     assert set(summary) == keys
     assert summary["split"] == "train"  # the pinned part's own split
     assert any(" split=train resistance=" in line for line in lines)
