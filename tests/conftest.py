@@ -50,3 +50,21 @@ def sample_library(tmp_path_factory, sample_configs, settings, cache_root):
     """The sample built for both collision sources in high resistance."""
     out = tmp_path_factory.mktemp("library")
     return out, build_sample(sample_configs, settings, cache_root, out)
+
+
+# what the export, release and verify tests export: a bar on a drawer (a gap behind it), a cup
+# pull on the flap (a channel behind its lip) and a knob on a door (no gap)
+EXPORT_SAMPLE = {
+    "drawer": ("tp_round_bar_128", "drawer_w60_h20"),
+    "flap": ("fp_cup_128", "flap_w60_h40"),
+    "door": ("knob_round_30", "door_left_w40_h80"),
+}
+
+
+@pytest.fixture(scope="session")
+def export_library(tmp_path_factory, catalog, settings, cache_root):
+    """EXPORT_SAMPLE built once for both collision sources in high resistance."""
+    out = tmp_path_factory.mktemp("export_library")
+    configs = [next(catalog.configurations(part=p, base=b)) for p, b in EXPORT_SAMPLE.values()]
+    build_sample(configs, settings, cache_root, out)
+    return out

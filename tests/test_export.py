@@ -12,7 +12,7 @@ import mujoco
 import numpy as np
 import pybullet
 import pytest
-from conftest import build_sample
+from conftest import EXPORT_SAMPLE
 from pxr import Usd, UsdGeom, UsdPhysics
 
 from realikea.assets.export import driver
@@ -21,19 +21,14 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
-DRAWER = ("tp_round_bar_128", "drawer_w60_h20")  # a bar: a gap behind it
-FLAP = ("fp_cup_128", "flap_w60_h40")  # a finger pull: a channel behind its lip
-DOOR = ("knob_round_30", "door_left_w40_h80")  # a knob: no gap
-CONFIGS = {"drawer": DRAWER, "flap": FLAP, "door": DOOR}
+CONFIGS = EXPORT_SAMPLE
 REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
 
 
 @pytest.fixture(scope="module")
-def library(tmp_path_factory, catalog, settings, cache_root):
+def library(export_library):
     """The three configurations built for both sources in high resistance."""
-    out = tmp_path_factory.mktemp("library")
-    build_sample(_configs(catalog, *CONFIGS), settings, cache_root, out)
-    return out
+    return export_library
 
 
 def _configs(catalog, *names):
@@ -350,7 +345,7 @@ def test_an_interrupted_export_leaves_no_partial_folder(library, catalog, tmp_pa
 
 
 def test_the_command_exports_one_configuration(library, tmp_path, capsys):
-    part, base = DRAWER
+    part, base = EXPORT_SAMPLE["drawer"]
     args = ["--part", part, "--base", base, "--format", "mjcf", "--out", str(tmp_path)]
     assert main(["assets", "export", *args, f"paths.library={library}"]) == 0
     assert "exported 1, up to date 0" in capsys.readouterr().out
@@ -380,7 +375,7 @@ def test_a_configuration_not_built_is_refused_with_how_to_build_it(library, tmp_
 def test_an_out_that_is_a_file_is_refused(library, tmp_path, capsys):
     out = tmp_path / "taken.txt"
     out.write_text("mine")
-    part, base = DRAWER
+    part, base = EXPORT_SAMPLE["drawer"]
     args = ["--part", part, "--base", base, "--format", "usd", "--out", str(out)]
     assert main(["assets", "export", *args, f"paths.library={library}"]) == 2
     assert f"--out {out} is an existing file" in capsys.readouterr().err

@@ -12,7 +12,7 @@ import shutil
 
 import pytest
 import yaml
-from conftest import build_sample
+from conftest import EXPORT_SAMPLE
 
 from realikea.assets.export import FORMATS, SOURCES, release
 from realikea.assets.export.driver import export_folder
@@ -26,7 +26,7 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
-PAIRS = (("tp_round_bar_128", "drawer_w60_h20"), ("knob_round_30", "door_left_w40_h80"))
+PAIRS = (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 TITLE = "Real-IKEA: Physical Fidelity is the Prerequisite for Robust Manipulation"
 
@@ -38,11 +38,9 @@ def configs(catalog):
 
 
 @pytest.fixture(scope="module")
-def library(tmp_path_factory, configs, settings, cache_root):
-    """The two configurations built for both sources in high resistance."""
-    out = tmp_path_factory.mktemp("library")
-    build_sample(configs, settings, cache_root, out)
-    return out
+def library(export_library):
+    """The configurations built for both sources in high resistance (the two among them)."""
+    return export_library
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ import json
 import shutil
 
 import pytest
-from conftest import build_sample
+from conftest import EXPORT_SAMPLE
 from pxr import Usd
 
 from realikea.assets.export import FORMATS, SOURCES, release
@@ -17,7 +17,7 @@ from realikea.assets.export.release import MANIFEST, VERIFICATION, release_libra
 from realikea.assets.export.verify import verify_folder, verify_release
 from realikea.cli import main
 
-PAIRS = (("tp_round_bar_128", "drawer_w60_h20"), ("knob_round_30", "door_left_w40_h80"))
+PAIRS = (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 
 
@@ -28,11 +28,9 @@ def configs(catalog):
 
 
 @pytest.fixture(scope="module")
-def library(tmp_path_factory, configs, settings, cache_root):
-    """The two configurations built for both sources in high resistance."""
-    out = tmp_path_factory.mktemp("library")
-    build_sample(configs, settings, cache_root, out)
-    return out
+def library(export_library):
+    """The configurations built for both sources in high resistance (the two among them)."""
+    return export_library
 
 
 @pytest.fixture(scope="module")
