@@ -68,3 +68,12 @@ def export_library(tmp_path_factory, catalog, settings, cache_root):
     configs = [next(catalog.configurations(part=p, base=b)) for p, b in EXPORT_SAMPLE.values()]
     build_sample(configs, settings, cache_root, out)
     return out
+
+
+@pytest.fixture(scope="session")
+def export_configs(catalog):
+    """EXPORT_SAMPLE's drawer with a bar and door with a knob (built in `export_library`)."""
+    return [
+        next(catalog.configurations(part=p, base=b))
+        for p, b in (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
+    ]

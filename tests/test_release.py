@@ -12,7 +12,6 @@ import shutil
 
 import pytest
 import yaml
-from conftest import EXPORT_SAMPLE
 
 from realikea.assets.export import FORMATS, SOURCES, release
 from realikea.assets.export.driver import export_folder
@@ -26,28 +25,15 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
-PAIRS = (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 TITLE = "Real-IKEA: Physical Fidelity is the Prerequisite for Robust Manipulation"
 
 
 @pytest.fixture(scope="module")
-def configs(catalog):
-    """A drawer with a bar and a door with a knob."""
-    return [next(catalog.configurations(part=p, base=b)) for p, b in PAIRS]
-
-
-@pytest.fixture(scope="module")
-def library(export_library):
-    """The configurations built for both sources in high resistance (the two among them)."""
-    return export_library
-
-
-@pytest.fixture(scope="module")
-def released(tmp_path_factory, configs, library):
+def released(tmp_path_factory, export_configs, export_library):
     """A release of the two configurations in every format and source, and its report."""
     out = tmp_path_factory.mktemp("release") / "release"
-    return out, release_library(configs, library, out, progress=False)
+    return out, release_library(export_configs, export_library, out, progress=False)
 
 
 def _manifest(out) -> dict:
@@ -75,7 +61,7 @@ def _header(text: str) -> dict:
 
 
 def test_the_release_holds_every_format_and_source_the_card_and_a_matching_manifest(
-    released, configs
+    released, export_configs
 ):
     out, report = released
     assert sorted(p.name for p in out.iterdir()) == sorted([CARD, MANIFEST, *FOLDERS])
@@ -97,7 +83,7 @@ def test_the_release_holds_every_format_and_source_the_card_and_a_matching_manif
         records = manifest["configurations"].values()
         listed = [f for c in records for f in c["exports"][name]["files"]]
         assert folder["configurations"] == 2 and folder["files"] == len(listed)
-    for config in configs:
+    for config in export_configs:
         record = manifest["configurations"][config.id]
         assert (record["part_id"], record["base_id"]) == (config.part.id, config.base.id)
         assert record["resistance_mode"] == "high"
@@ -111,11 +97,13 @@ def test_the_release_holds_every_format_and_source_the_card_and_a_matching_manif
                 assert (out / model).is_file() and model.endswith(metadata["export"]["model"])
 
 
-def test_a_rerun_exports_nothing_and_rewrites_the_same_manifest(released, configs, library):
+def test_a_rerun_exports_nothing_and_rewrites_the_same_manifest(
+    released, export_configs, export_library
+):
     out, _ = released
     before = (out / MANIFEST).read_bytes()
     stamps = {p: p.stat().st_mtime_ns for p in out.rglob("metadata.json")}
-    again = release_library(configs, library, out, progress=False)
+    again = release_library(export_configs, export_library, out, progress=False)
     assert again.exported == dict.fromkeys(FOLDERS, 0)
     assert again.current == dict.fromkeys(FOLDERS, 2)
     assert (out / MANIFEST).read_bytes() == before
@@ -123,7 +111,7 @@ def test_a_rerun_exports_nothing_and_rewrites_the_same_manifest(released, config
 
 
 def test_an_interrupted_release_leaves_no_manifest_and_resumes(
-    configs, library, tmp_path, monkeypatch
+    export_configs, export_library, tmp_path, monkeypatch
 ):
     out = tmp_path / "release"
     out.mkdir()
@@ -139,32 +127,34 @@ def test_an_interrupted_release_leaves_no_manifest_and_resumes(
 
     monkeypatch.setattr(release, "export_configurations", crash_on_the_third)
     with pytest.raises(KeyboardInterrupt):
-        release_library(configs, library, out, progress=False)
+        release_library(export_configs, export_library, out, progress=False)
     assert not (out / MANIFEST).exists()
     assert sorted(p.name for p in out.iterdir()) == FOLDERS[:2]  # no staging folder left
     monkeypatch.setattr(release, "export_configurations", exported)
-    report = release_library(configs, library, out, progress=False)
+    report = release_library(export_configs, export_library, out, progress=False)
     assert report.exported == {name: 0 if name in FOLDERS[:2] else 2 for name in FOLDERS}
     assert _manifest(out)["totals"]["folders"].keys() == set(FOLDERS)
 
 
-def test_a_folder_changed_after_its_export_is_refused(released, configs, library, tmp_path):
+def test_a_folder_changed_after_its_export_is_refused(
+    released, export_configs, export_library, tmp_path
+):
     out = tmp_path / "release"
     shutil.copytree(released[0], out)
-    stray = export_folder(out, "urdf", "hull", configs[0].id) / "notes.txt"
+    stray = export_folder(out, "urdf", "hull", export_configs[0].id) / "notes.txt"
     stray.write_text("mine")
     with pytest.raises(RealIkeaError, match=r"urdf_hull/tp_round_bar_128__drawer_w60_h20.*notes"):
-        release_library(configs, library, out, progress=False)
+        release_library(export_configs, export_library, out, progress=False)
     assert not (out / MANIFEST).exists()
 
 
 def test_the_command_releases_the_selected_formats_and_sources(
-    configs, library, tmp_path, monkeypatch, capsys
+    export_configs, export_library, tmp_path, monkeypatch, capsys
 ):
-    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+    monkeypatch.setattr(release, "library_configurations", lambda: export_configs)
     out = tmp_path / "release"
     args = ["--out", str(out), "--formats", "mjcf", "urdf", "--collision", "hull"]
-    assert main(["assets", "release", f"paths.library={library}", *args]) == 0
+    assert main(["assets", "release", f"paths.library={export_library}", *args]) == 0
     printed = capsys.readouterr().out
     assert "mjcf_hull: exported 2, up to date 0" in printed and "manifest:" in printed
     assert sorted(p.name for p in out.iterdir()) == [CARD, MANIFEST, "mjcf_hull", "urdf_hull"]
@@ -175,46 +165,52 @@ def test_the_command_releases_the_selected_formats_and_sources(
 # --------------------------------------------------------------------------------- bad input
 
 
-def test_an_unknown_format_or_source_is_refused_before_writing(configs, library, tmp_path, capsys):
+def test_an_unknown_format_or_source_is_refused_before_writing(
+    export_configs, export_library, tmp_path, capsys
+):
     out = tmp_path / "release"
     with pytest.raises(RealIkeaError, match="unknown export format 'obj'.*urdf, usd, mjcf"):
-        release_library(configs, library, out, ["urdf", "obj"], progress=False)
+        release_library(export_configs, export_library, out, ["urdf", "obj"], progress=False)
     with pytest.raises(RealIkeaError, match="unknown collision source 'vhacd'"):
-        release_library(configs, library, out, sources=["vhacd"], progress=False)
+        release_library(export_configs, export_library, out, sources=["vhacd"], progress=False)
     with pytest.raises(RealIkeaError, match="no format to release"):
-        release_library(configs, library, out, [], progress=False)
+        release_library(export_configs, export_library, out, [], progress=False)
     with pytest.raises(SystemExit):
         main(["assets", "release", "--out", str(out), "--formats", "obj"])
     assert "invalid choice: 'obj'" in capsys.readouterr().err
     assert not out.exists()
 
 
-def test_an_out_that_is_a_file_is_refused(configs, library, tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+def test_an_out_that_is_a_file_is_refused(
+    export_configs, export_library, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.setattr(release, "library_configurations", lambda: export_configs)
     out = tmp_path / "taken.txt"
     out.write_text("mine")
-    assert main(["assets", "release", f"paths.library={library}", "--out", str(out)]) == 2
+    assert main(["assets", "release", f"paths.library={export_library}", "--out", str(out)]) == 2
     assert f"--out {out} is an existing file" in capsys.readouterr().err
     assert out.read_text() == "mine" and sorted(tmp_path.iterdir()) == [out]
 
 
 def test_configurations_not_built_are_refused_with_how_to_build_them(
-    configs, catalog, library, tmp_path, monkeypatch, capsys
+    export_configs, catalog, export_library, tmp_path, monkeypatch, capsys
 ):
     unbuilt = next(catalog.configurations(part="knob_round_20", base="flap_w60_h40"))
-    monkeypatch.setattr(release, "library_configurations", lambda: [*configs, unbuilt])
+    monkeypatch.setattr(release, "library_configurations", lambda: [*export_configs, unbuilt])
     out = tmp_path / "release"
-    assert main(["assets", "release", f"paths.library={library}", "--out", str(out)]) == 2
+    assert main(["assets", "release", f"paths.library={export_library}", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "1 of 3 configurations are not built" in err
     assert "realikea assets build --part knob_round_20 --base flap_w60_h40" in err
     assert not out.exists()
 
 
-def test_a_missing_card_or_out_is_refused(configs, library, tmp_path, capsys):
+def test_a_missing_card_or_out_is_refused(export_configs, export_library, tmp_path, capsys):
     out = tmp_path / "release"
     with pytest.raises(RealIkeaError, match="dataset card .*no_card.md does not exist"):
-        release_library(configs, library, out, card=tmp_path / "no_card.md", progress=False)
+        release_library(
+            export_configs, export_library, out, card=tmp_path / "no_card.md", progress=False
+        )
     assert main(["assets", "release"]) == 2
     assert "--out DIR" in capsys.readouterr().err
     assert not out.exists()

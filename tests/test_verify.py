@@ -8,7 +8,6 @@ import json
 import shutil
 
 import pytest
-from conftest import EXPORT_SAMPLE
 from pxr import Usd
 
 from realikea.assets.export import FORMATS, SOURCES, release
@@ -17,27 +16,14 @@ from realikea.assets.export.release import MANIFEST, VERIFICATION, release_libra
 from realikea.assets.export.verify import verify_folder, verify_release
 from realikea.cli import main
 
-PAIRS = (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 
 
 @pytest.fixture(scope="module")
-def configs(catalog):
-    """A drawer with a bar and a door with a knob."""
-    return [next(catalog.configurations(part=p, base=b)) for p, b in PAIRS]
-
-
-@pytest.fixture(scope="module")
-def library(export_library):
-    """The configurations built for both sources in high resistance (the two among them)."""
-    return export_library
-
-
-@pytest.fixture(scope="module")
-def released(tmp_path_factory, configs, library):
+def released(tmp_path_factory, export_configs, export_library):
     """A release of the two configurations in every format and source, not verified."""
     out = tmp_path_factory.mktemp("release") / "release"
-    release_library(configs, library, out, progress=False)
+    release_library(export_configs, export_library, out, progress=False)
     return out
 
 
@@ -54,19 +40,19 @@ def _verification(out) -> dict:
     return json.loads((out / VERIFICATION).read_text())
 
 
-def _release(library, out, *flags) -> int:
-    return main(["assets", "release", f"paths.library={library}", "--out", str(out), *flags])
+def _release(export_library, out, *flags) -> int:
+    return main(["assets", "release", f"paths.library={export_library}", "--out", str(out), *flags])
 
 
 # --------------------------------------------------------------------------------- clean
 
 
 def test_a_clean_release_verifies_and_writes_verification_json(
-    configs, library, tmp_path, monkeypatch, capsys
+    export_configs, export_library, tmp_path, monkeypatch, capsys
 ):
-    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+    monkeypatch.setattr(release, "library_configurations", lambda: export_configs)
     out = tmp_path / "release"
-    assert _release(library, out, "--verify") == 0
+    assert _release(export_library, out, "--verify") == 0
     printed = capsys.readouterr().out
     assert "urdf_coacd: verified 2 of 2" in printed
     assert f"verification: {out / VERIFICATION}" in printed
@@ -86,15 +72,15 @@ def test_a_clean_release_verifies_and_writes_verification_json(
     assert record["seconds"] > 0 and all(record["tools"].values())
     assert record["manifest_sha256"] == release.sha256_file(out / MANIFEST)
     # a rerun without --verify leaves no verification of folders it may have changed
-    assert _release(library, out) == 0
+    assert _release(export_library, out) == 0
     assert not (out / VERIFICATION).exists() and (out / MANIFEST).is_file()
     assert "not in the manifest" not in capsys.readouterr().out
 
 
-def test_each_folder_says_what_was_checked(released, configs):
+def test_each_folder_says_what_was_checked(released, export_configs):
     for fmt in FORMATS:
         for source in SOURCES:
-            result = verify_folder(export_folder(released, fmt, source, configs[1].id), fmt)
+            result = verify_folder(export_folder(released, fmt, source, export_configs[1].id), fmt)
             assert result.ok and result.error is None, result.error
             assert result.file.name == f"model_{source}" + {"urdf": ".urdf", "usd": ".usd"}.get(
                 fmt, ".xml"
@@ -103,8 +89,8 @@ def test_each_folder_says_what_was_checked(released, configs):
             assert "front_joint (hinge)" in " ".join(result.checked)
 
 
-def test_an_export_folder_without_a_manifest_is_walked(configs, library, tmp_path):
-    export_configurations(configs, "usd", "hull", library, tmp_path, progress=False)
+def test_an_export_folder_without_a_manifest_is_walked(export_configs, export_library, tmp_path):
+    export_configurations(export_configs, "usd", "hull", export_library, tmp_path, progress=False)
     report = verify_release(tmp_path, progress=False)
     assert (
         report.ok and report.folders["usd_hull"]["ok"] == 2 and list(report.folders) == ["usd_hull"]
@@ -121,8 +107,10 @@ def _failures(out) -> dict[str, str]:
     return {f["file"]: f["error"] for f in _verification(out)["failures"]}
 
 
-def test_a_truncated_urdf_fails_by_name_and_the_command_exits_non_zero(damaged, configs, capsys):
-    urdf = export_folder(damaged, "urdf", "coacd", configs[0].id) / "model_coacd.urdf"
+def test_a_truncated_urdf_fails_by_name_and_the_command_exits_non_zero(
+    damaged, export_configs, capsys
+):
+    urdf = export_folder(damaged, "urdf", "coacd", export_configs[0].id) / "model_coacd.urdf"
     urdf.write_bytes(urdf.read_bytes()[: urdf.stat().st_size // 2])
     assert main(["assets", "verify", str(damaged)]) == 1
     name = urdf.relative_to(damaged).as_posix()
@@ -133,8 +121,8 @@ def test_a_truncated_urdf_fails_by_name_and_the_command_exits_non_zero(damaged, 
     assert _verification(damaged)["folders"]["urdf_coacd"]["failed"] == 1
 
 
-def test_a_usd_missing_a_collision_prim_fails_by_name(damaged, configs, capsys):
-    usd = export_folder(damaged, "usd", "coacd", configs[0].id) / "model_coacd.usd"
+def test_a_usd_missing_a_collision_prim_fails_by_name(damaged, export_configs, capsys):
+    usd = export_folder(damaged, "usd", "coacd", export_configs[0].id) / "model_coacd.usd"
     stage = Usd.Stage.Open(str(usd))
     part = stage.GetDefaultPrim().GetPath().AppendChild("part")
     assert stage.RemovePrim(part.AppendChild("part_collision_000"))
@@ -143,13 +131,15 @@ def test_a_usd_missing_a_collision_prim_fails_by_name(damaged, configs, capsys):
     name = usd.relative_to(damaged).as_posix()
     assert name in capsys.readouterr().err
     (error,) = _failures(damaged).values()
-    pieces = len(list((usd.parent.parent.parent / "urdf_coacd" / configs[0].id).rglob("coacd_*")))
+    pieces = len(
+        list((usd.parent.parent.parent / "urdf_coacd" / export_configs[0].id).rglob("coacd_*"))
+    )
     assert f"{pieces - 1} convexHull collision meshes on the 'part' link" in error
-    assert f"urdf_coacd/{configs[0].id}/metadata.json lists {pieces} convex pieces" in error
+    assert f"urdf_coacd/{export_configs[0].id}/metadata.json lists {pieces} convex pieces" in error
 
 
-def test_a_mesh_the_mjcf_references_deleted_fails_naming_it(damaged, configs, capsys):
-    folder = export_folder(damaged, "mjcf", "hull", configs[1].id)
+def test_a_mesh_the_mjcf_references_deleted_fails_naming_it(damaged, export_configs, capsys):
+    folder = export_folder(damaged, "mjcf", "hull", export_configs[1].id)
     (folder / "meshes" / "hull_000.stl").unlink()
     assert main(["assets", "verify", str(damaged)]) == 1
     name = (folder / "model_hull.xml").relative_to(damaged).as_posix()
@@ -158,8 +148,8 @@ def test_a_mesh_the_mjcf_references_deleted_fails_naming_it(damaged, configs, ca
     assert list(failures) == [name] and "meshes/hull_000.stl" in failures[name]
 
 
-def test_a_folder_the_manifest_lists_that_is_gone_fails(damaged, configs):
-    gone = export_folder(damaged, "usd", "hull", configs[1].id)
+def test_a_folder_the_manifest_lists_that_is_gone_fails(damaged, export_configs):
+    gone = export_folder(damaged, "usd", "hull", export_configs[1].id)
     shutil.rmtree(gone)
     report = verify_release(damaged, progress=False)
     (failure,) = report.failures
@@ -168,16 +158,18 @@ def test_a_folder_the_manifest_lists_that_is_gone_fails(damaged, configs):
 
 
 def test_release_verify_exits_non_zero_when_a_model_does_not_reload(
-    configs, library, tmp_path, monkeypatch, capsys
+    export_configs, export_library, tmp_path, monkeypatch, capsys
 ):
-    monkeypatch.setattr(release, "library_configurations", lambda: configs)
+    monkeypatch.setattr(release, "library_configurations", lambda: export_configs)
     out = tmp_path / "release"
-    assert _release(library, out, "--formats", "mjcf", "--collision", "hull") == 0
-    xml = export_folder(out, "mjcf", "hull", configs[0].id) / "model_hull.xml"
+    assert _release(export_library, out, "--formats", "mjcf", "--collision", "hull") == 0
+    xml = export_folder(out, "mjcf", "hull", export_configs[0].id) / "model_hull.xml"
     xml.write_text("<mujoco/>")  # the release re-exports only when its export key changes
-    assert _release(library, out, "--formats", "mjcf", "--collision", "hull", "--verify") == 1
+    assert (
+        _release(export_library, out, "--formats", "mjcf", "--collision", "hull", "--verify") == 1
+    )
     err = capsys.readouterr().err
-    assert f"mjcf_hull/{configs[0].id}/model_hull.xml: 0 joints" in err
+    assert f"mjcf_hull/{export_configs[0].id}/model_hull.xml: 0 joints" in err
     assert _verification(out)["totals"] == {"configurations": 2, "ok": 1, "failed": 1}
 
 

@@ -503,18 +503,27 @@ def _pybullet_version() -> str:
     return version("pybullet")
 
 
-def main(argv=None) -> int:
-    """Run the sample and write the report."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def parse_arguments(description: str, out: Path, argv) -> argparse.Namespace:
+    """The options this script and `sapien_check.py` share: a scratch folder, the report's path."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
-    args = parser.parse_args(argv)
-    start, cpu = time.perf_counter(), time.process_time()
+    parser.add_argument("--out", type=Path, default=out)
+    return parser.parse_args(argv)
+
+
+def sample_context() -> tuple[WorkflowSettings, Path, Catalog, list[Configuration]]:
+    """The workflow settings, the mesh cache, the catalog and SAMPLE's configurations."""
     cfg = load_config()
-    settings = WorkflowSettings.from_config(cfg)
-    cache_root = repo_path(cfg.paths.cache)
     catalog = Catalog.load()
     sample = [next(catalog.configurations(part=p, base=b)) for p, b in SAMPLE]
+    return WorkflowSettings.from_config(cfg), repo_path(cfg.paths.cache), catalog, sample
+
+
+def main(argv=None) -> int:
+    """Run the sample and write the report."""
+    args = parse_arguments(__doc__.splitlines()[0], DEFAULT_OUT, argv)
+    start, cpu = time.perf_counter(), time.process_time()
+    settings, cache_root, catalog, sample = sample_context()
     probed = [
         c for p in catalog.parts_in("two_point") for c in catalog.configurations(part=p.id,
                                                                                base=PROBE_BASE)

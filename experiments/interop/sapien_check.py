@@ -21,7 +21,6 @@ linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
 import tempfile
@@ -35,11 +34,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import parity  # noqa: E402  (experiments/interop/parity.py: the sample and its preparation)
 
-from realikea.assets.build import WorkflowSettings  # noqa: E402
-from realikea.assets.catalog import Catalog  # noqa: E402
 from realikea.assets.export.metadata import PART_LINK  # noqa: E402
 from realikea.assets.export.model import read_articulation  # noqa: E402
-from realikea.config import load_config  # noqa: E402
 from realikea.files import repo_path  # noqa: E402
 from realikea.interop.parity import SECONDS, compare_pull  # noqa: E402
 from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction  # noqa: E402
@@ -172,16 +168,9 @@ probe of report.md), SAPIEN's GPU PhysX.
 def main(argv=None) -> int:
     """Build and export the sample, pull it in both simulators and write the report."""
     warnings.filterwarnings("ignore", module="sapien")
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
-    args = parser.parse_args(argv)
+    args = parity.parse_arguments(__doc__.splitlines()[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
-    cfg = load_config()
-    settings = WorkflowSettings.from_config(cfg)
-    cache_root = repo_path(cfg.paths.cache)
-    catalog = Catalog.load()
-    sample = [next(catalog.configurations(part=p, base=b)) for p, b in parity.SAMPLE]
+    settings, cache_root, _, sample = parity.sample_context()
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
     with tempfile.TemporaryDirectory(prefix="realikea_sapien_") as scratch:
         work = args.work or Path(scratch)

@@ -57,8 +57,8 @@ def joint_record(articulation: Articulation) -> dict:
     return {
         "name": joint.name,
         "type": joint.type,
-        "anchor": _vector(link.pose[:3, :3] @ joint.anchor + link.pose[:3, 3]),
-        "axis": _vector(link.pose[:3, :3] @ joint.axis),
+        "anchor": _vector(link.pose[:3, :3] @ np.asarray(joint.pos) + link.pose[:3, 3]),
+        "axis": _vector(link.pose[:3, :3] @ np.asarray(joint.axis)),
         "range": list(joint.range),
         "range_unit": "m" if joint.type == "slide" else "rad",
     }

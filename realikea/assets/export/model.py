@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation
 
 from realikea.assets.cache import link_or_copy
 from realikea.assets.library import FRONT_JOINT
-from realikea.assets.workflow.assembly import SOLID_GROUP, VISUAL_GROUP
+from realikea.assets.workflow.assembly import SOLID_GROUP, VISUAL_GROUP, Joint
 from realikea.errors import RealIkeaError
 
 ROOT = "carcass"  # the one static link: every body welded to the world (the unit and the carcass)
@@ -59,19 +59,6 @@ class Inertial:
     mass: float
     pose: np.ndarray
     moments: tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class Joint:
-    """The front's one degree of freedom, anchor and unit axis in its link's frame."""
-
-    name: str
-    type: str  # slide | hinge
-    anchor: np.ndarray
-    axis: np.ndarray
-    range: tuple[float, float]
-    damping: float
-    frictionloss: float
 
 
 @dataclass(frozen=True)
@@ -136,8 +123,8 @@ def _joint(model: mujoco.MjModel, body: int) -> Joint | None:
     return Joint(
         model.joint(j).name,
         JOINT_TYPES[int(model.jnt_type[j])],
-        model.jnt_pos[j].copy(),
-        model.jnt_axis[j] / np.linalg.norm(model.jnt_axis[j]),
+        tuple(float(v) for v in model.jnt_pos[j]),  # anchor and unit axis in the link's frame
+        tuple(float(v) for v in model.jnt_axis[j] / np.linalg.norm(model.jnt_axis[j])),
         (float(model.jnt_range[j][0]), float(model.jnt_range[j][1])),
         float(model.dof_damping[dof]),
         float(model.dof_frictionloss[dof]),

@@ -42,7 +42,7 @@ def _frame(link: Link) -> np.ndarray:
     """The URDF frame of a link in the world: its body frame, moved onto its joint's anchor."""
     frame = link.pose.copy()
     if link.joint is not None:
-        frame[:3, 3] = link.pose[:3, :3] @ link.joint.anchor + link.pose[:3, 3]
+        frame[:3, 3] = link.pose[:3, :3] @ np.asarray(link.joint.pos) + link.pose[:3, 3]
     return frame
 
 

@@ -155,7 +155,7 @@ def _joint(stage: Usd.Stage, root: Sdf.Path, link: Link, parent: Link) -> None:
         joint = UsdPhysics.FixedJoint.Define(stage, path)
     else:
         joint = JOINT_SCHEMA[j.type].Define(stage, path)
-        frame[:3, :3], frame[:3, 3] = _x_to(j.axis), j.anchor
+        frame[:3, :3], frame[:3, 3] = _x_to(np.asarray(j.axis)), np.asarray(j.pos)
         joint.CreateAxisAttr(UsdPhysics.Tokens.x)
         to_unit = 1.0 if j.type == "slide" else 180.0 / math.pi  # revolute limits in degrees
         joint.CreateLowerLimitAttr(j.range[0] * to_unit)

@@ -59,7 +59,8 @@ class Geom:
 
 @dataclass(frozen=True)
 class Joint:
-    """The front's one degree of freedom with its resistance."""
+    """The front's one degree of freedom with its resistance, anchor and axis in its body's frame:
+    what the workflow writes into the MJCF and what the exporters read back from it."""
 
     name: str
     type: str  # slide | hinge
