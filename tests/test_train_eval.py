@@ -280,6 +280,22 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert "| drawer | two_point |" in table and "[" in table
 
 
+def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one():
+    def record(mode, failures):
+        return {"episodes": 50, "success": 0.2, "partial": 0.3, "mode": mode,
+                "strategies": {"pinch": 0.6, "hook": 0.1}, **failures}  # fmt: skip
+
+    slips = {"failure_modes": {"slip": 0.56, "narrow_clearance": 0.1}}
+    cells = {("door", "knob", m): record(m, slips) for m in ("smooth", "normal", "high")}
+    cells |= {("flap", "knob", m): record(m, {}) for m in ("smooth", "normal", "high")}
+    lines = success_table(cells).splitlines()
+    assert lines[0].endswith("| strategy (high) | failure mode (high) |")
+    (door,) = [x for x in lines if x.startswith("| door | knob |")]
+    (flap,) = [x for x in lines if x.startswith("| flap | knob |")]
+    assert door.endswith("| pinch 0.60 | slip 0.56 |")
+    assert flap.endswith("| pinch 0.60 | – |")  # evaluated before the failure modes existed
+
+
 def test_a_slim_checkpoint_acts_like_its_source(run, tmp_path):
     run_dir, _ = run
     slim = slim_checkpoint(run_dir / "model_1.pt", tmp_path / "slim" / "model_1.pt")

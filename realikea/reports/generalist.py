@@ -99,21 +99,23 @@ def _rate(record: dict | None) -> str:
     return f"{k / n:.2f} [{lo:.2f}, {hi:.2f}]"
 
 
-def _top_strategy(record: dict) -> str:
-    strategies = record.get("strategies") or {}
-    if not strategies:
+def _top_label(record: dict | None, key: str) -> str:
+    """The most frequent label of `key` (strategies, failure_modes) and its share, or '–'."""
+    labels = (record or {}).get(key) or {}
+    if not labels or max(labels.values()) == 0.0:
         return "–"
-    name = max(strategies, key=strategies.get)
-    return f"{name} {strategies[name]:.2f}"
+    name = max(labels, key=labels.get)
+    return f"{name} {labels[name]:.2f}"
 
 
 def success_table(cells: dict) -> str:
     """Success per kind x category under each mode (Wilson 95 %), the partial openings and the
-    most frequent strategy label in high."""
+    most frequent strategy and failure mode in high ('–' for cells evaluated before the failure
+    modes existed, or with no failure)."""
     lines = [
         "| kind | category | " + " | ".join(f"{m} S [95 %]" for m in MODES)
-        + " | partial (high) | strategy (high) |",
-        "|---|---|" + "---|" * (len(MODES) + 2),
+        + " | partial (high) | strategy (high) | failure mode (high) |",
+        "|---|---|" + "---|" * (len(MODES) + 3),
     ]  # fmt: skip
     for kind in KINDS:
         for category in CATEGORIES:
@@ -124,7 +126,8 @@ def success_table(cells: dict) -> str:
             partial = f"{high['partial']:.2f}" if high else "–"
             lines.append(
                 f"| {kind} | {category} | " + " | ".join(_rate(r) for r in row)
-                + f" | {partial} | {_top_strategy(high) if high else '–'} |"
+                + f" | {partial} | {_top_label(high, 'strategies')}"
+                + f" | {_top_label(high, 'failure_modes')} |"
             )  # fmt: skip
     return "\n".join(lines) + "\n"
 
