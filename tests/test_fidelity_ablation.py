@@ -94,6 +94,10 @@ def test_eval_overrides_replace_the_training_resistance_and_keep_the_rest(tmp_pa
     ]
     plain = eval_overrides(run, tmp_path / "m.pt", "normal", OmegaConf.create({"episodes": 1}))
     assert "env.seed=3" in plain and "dr.switch_iteration=4" in plain
+    assert "collision=hull" in plain  # unset: the run's own geometry
+    faithful = OmegaConf.create({"episodes": 1, "collision": "coacd"})
+    out = eval_overrides(run, tmp_path / "m.pt", "high", faithful)
+    assert "collision=hull" not in out and out.count("collision=coacd") == 1
 
 
 @pytest.fixture(scope="module")

@@ -34,9 +34,11 @@ def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_te
     cfg = load_config(["+experiment=fidelity_grid", "asset=knob"])
     assert cfg.scene.name == "kitchen" and cfg.asset.split == "train"
     assert cfg.asset.kind == "drawer" and cfg.env.num_envs == 64
-    assert cfg.agent.max_iterations == 600 and cfg.dr.switch_iteration == 300
+    assert cfg.agent.max_iterations == 900 and cfg.dr.switch_iteration == 300
     assert cfg.train.eval_after.split == "test" and cfg.train.eval_after.episodes == 50
-    assert cfg.task.reward.w_open2 == 2.0  # the generalist's recipe
+    assert cfg.task.reward.w_open2 == 0.0  # the appendix's, not the generalist's 2.0
+    assert cfg.train.eval_after.collision == "coacd"  # every run on the faithful geometry
+    assert cfg.agent.max_iterations == grid().ITERATIONS
 
 
 def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused():
@@ -63,7 +65,7 @@ def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch)
         (tmp_path / run.name / f"model_{it}.pt").write_bytes(b"")
     command = module.command(run)
     assert f"train.resume={tmp_path / run.name / 'model_150.pt'}" in command
-    assert "agent.max_iterations=450" in command
+    assert f"agent.max_iterations={module.ITERATIONS - 150}" in command
     assert not module.running(run)
     (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
     assert not module.running(run)

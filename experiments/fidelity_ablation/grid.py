@@ -40,7 +40,7 @@ AXES = {  # the grid's axes as the options name them, in the order the runs go
     "resistances": ("high", "smooth", "normal"),
     "categories": ("two_point", "knob", "finger_pull"),
 }
-ITERATIONS = 600  # fidelity_grid.yaml's agent.max_iterations
+ITERATIONS = 900  # fidelity_grid.yaml's agent.max_iterations
 PAPER = {"dr.switch_iteration": 900, "agent.max_iterations": 1500}  # the paper's schedule
 
 

@@ -5,8 +5,10 @@ resistance modes through `realikea eval`'s own code, written to `<run>/eval.json
 evaluation, e.g. the classifier), from the run's own config and command line.
 
 Each mode is exactly `realikea eval <the run's command-line overrides> asset.split=<split>
-policy=checkpoint policy.path=<checkpoint> resistance=<mode> episodes=<n> [dr=...]
-[env.seed=...]` (the command is stored beside its result, so any entry can be re-run by hand).
+policy=checkpoint [collision=...] policy.path=<checkpoint> resistance=<mode> episodes=<n>
+[dr=...] [env.seed=...]` (the command is stored beside its result, so any entry can be re-run by
+hand). `train.eval_after.collision` evaluates on that geometry whatever the run trained on (the
+fidelity grid: `coacd`, the faithful one); unset, on the run's own.
 
 The split (`train.eval_after.split`: train, test or all) defaults to `test`, the parts held out
 of training (realikea/catalog/split.csv). A run made before the split existed (its config has no
@@ -51,12 +53,16 @@ def eval_overrides(
 ) -> list[str]:
     """The `realikea eval` overrides of one mode (see the module docstring)."""
     dropped = list(_DROPPED)
+    if spec.get("collision"):
+        dropped.append("collision")
     if spec.get("dr"):
         dropped.append("dr")
     if spec.get("seed") is not None:
         dropped.append("env.seed")
     kept = [o for o in run_overrides if not any(overrides_set([o], d) for d in dropped)]
     out = [*kept, f"asset.split={eval_split(spec, default_split)}", "policy=checkpoint"]
+    if spec.get("collision"):
+        out.append(f"collision={spec.collision}")
     out += [f"policy.path={Path(checkpoint).resolve()}"]
     out += [f"resistance={mode}", f"episodes={int(spec.episodes)}"]
     if spec.get("dr"):
