@@ -25,12 +25,16 @@ HERE = Path(__file__).resolve().parent
 
 
 GRIDS = {  # folder -> what was trained
-    "coacd": "CoACD, 1,500 iterations",
-    "hull": "hull, 1,500 iterations",
-    "coacd_2500": "CoACD, continued to 2,500 iterations",
+    "coacd": "CoACD, w_open2 = 2, 1,500 iterations",
+    "hull": "hull, w_open2 = 2, 1,500 iterations",
+    "coacd_2500": "CoACD, w_open2 = 2, continued to 2,500 iterations",
+    "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
+    "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
 }
 COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
-    ("coacd", "hull", "CoACD vs hull", ("CoACD", "hull")),
+    ("coacd", "hull", "CoACD vs hull, w_open2 = 2", ("CoACD", "hull")),
+    ("coacd_open2_0", "hull_open2_0", "CoACD vs hull, w_open2 = 0", ("CoACD", "hull")),
+    ("hull_open2_0", "coacd", "each source with its better bonus", ("hull 0", "CoACD 2")),
     ("coacd_2500", "coacd", "2,500 vs 1,500 iterations (CoACD)", ("2,500 its", "1,500 its")),
 )
 
