@@ -93,3 +93,13 @@ def test_the_report_names_runs_without_eval_json_and_refuses_an_empty_root(tmp_p
     with pytest.raises(SystemExit, match="no such directory"):
         report([tmp_path / "missing"], tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
+    lines = ["iteration,tag,value", "598,/episode/success,0.5", "599,/episode/success,0.6",
+             "12,Train/mean_reward/time,7", "599,/episode/success,0.7",
+             "12,Train/mean_reward/time,9", "600,/episode/success,0.8"]  # fmt: skip
+    assert grid().last_of_repeats(lines) == [
+        "iteration,tag,value", "598,/episode/success,0.5", "12,Train/mean_reward/time,7",
+        "599,/episode/success,0.7", "12,Train/mean_reward/time,9", "600,/episode/success,0.8",
+    ]  # fmt: skip
