@@ -242,3 +242,16 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
             ).read_text()
         )
         assert list(report["modes"]) == ["high"] and report["modes"]["high"]["episodes"] == 2
+
+
+def test_compute_counts_a_resumed_runs_iterations_and_every_launchs_wall_time(tmp_path):
+    (tmp_path / "resumed").mkdir()
+    (tmp_path / "resumed" / "eval.json").write_text(json.dumps({"checkpoint": "model_899.pt"}))
+    assert fidelity_ablation._trained_iterations(tmp_path / "resumed" / "eval.json", 301) == 900
+    resumed = {"dir": tmp_path / "resumed", "iterations": 900, "launch_iterations": 301,
+               "num_envs": 64, "eval": {"train_seconds": 602.0, "eval_seconds": 120.0},
+               "wall": [3000.0, 1800.0]}  # fmt: skip
+    lines = fidelity_ablation.compute_lines([resumed], tmp_path)
+    (row,) = [x for x in lines if x.startswith("| resumed |")]
+    assert row == "| resumed | 900 | 64 | 301 | 10.0 | 2.00 | 2.0 | 80.0 |"
+    assert lines[-1] == "Total compute (sum over runs; wall time where recorded): 1.33 h."

@@ -71,7 +71,8 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "gripper": str(cfg.gripper.name),
                     "contact": str(cfg.contact.name),
                     "seed": int(cfg.env.seed),
-                    "iterations": int(cfg.agent.max_iterations),
+                    "launch_iterations": int(cfg.agent.max_iterations),
+                    "iterations": _trained_iterations(eval_file, int(cfg.agent.max_iterations)),
                     "num_envs": int(cfg.env.num_envs),
                     "eval": json.loads(eval_file.read_text()),
                     "scene": str(cfg.get("scene", {}).get("name", "freestanding")),
@@ -81,6 +82,14 @@ def find_runs(roots: list[Path]) -> list[dict]:
                 }
             )
     return runs
+
+
+def _trained_iterations(eval_file: Path, launch_iterations: int) -> int:
+    """Iterations behind the evaluated checkpoint (model_<i>.pt: i + 1): a resumed run's config
+    holds only its last launch's count."""
+    stem = Path(json.loads(eval_file.read_text()).get("checkpoint", "")).stem
+    number = stem.removeprefix("model_")
+    return int(number) + 1 if number.isdigit() else launch_iterations
 
 
 def _launch_seconds(run_dir: Path) -> list[float]:
@@ -375,24 +384,28 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
     lines = [
         "## Compute",
         "",
-        "Train and eval minutes from the run's eval.json (the last launch's training); wall: "
-        "every launch of the run, training and evaluation, beside whatever else ran.",
+        "Iterations behind the evaluated checkpoint; the last launch's iterations, training "
+        "minutes and seconds per iteration (a resumed run's earlier launches are in its wall "
+        "time only); eval minutes from eval.json; wall: every launch of the run, training and "
+        "evaluation, beside whatever else ran.",
         "",
-        "| run | iterations | envs | train (min) | s / iteration | eval (min) | wall (min) |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        "| run | iterations | envs | last launch: its | train (min) | s / iteration | eval (min) "
+        "| wall (min) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     total = 0.0
     for run in runs:
         seconds = train_seconds(run)
-        total += (seconds or 0.0) + run["eval"].get("eval_seconds", 0.0)
-        per_it = seconds / run["iterations"] if seconds else None
-        eval_min = run["eval"].get("eval_seconds", 0.0) / 60
+        eval_seconds = run["eval"].get("eval_seconds", 0.0)
+        total += sum(run["wall"]) if run["wall"] else (seconds or 0.0) + eval_seconds
+        per_it = seconds / run["launch_iterations"] if seconds else None
         lines.append(
             f"| {_rel(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
-            f"{_fmt(seconds / 60 if seconds else None, 1)} | {_fmt(per_it)} | {eval_min:.1f} | "
+            f"{run['launch_iterations']} | {_fmt(seconds / 60 if seconds else None, 1)} | "
+            f"{_fmt(per_it)} | {eval_seconds / 60:.1f} | "
             f"{_fmt(sum(run['wall']) / 60 if run['wall'] else None, 1)} |"
         )
-    lines += ["", f"Total compute (sum over runs): {total / 3600:.2f} h."]
+    lines += ["", f"Total compute (sum over runs; wall time where recorded): {total / 3600:.2f} h."]
     return lines
 
 
