@@ -23,5 +23,20 @@ python train.py logger=none train.resume=outputs/generalist/coacd_s0/model_1499.
   agent.max_iterations=1000 hydra.run.dir=outputs/generalist/coacd_s0_cont
 python "$HERE/keep.py" outputs/generalist/coacd_s0_cont coacd_2500 --continues outputs/generalist/coacd_s0
 python "$HERE/evaluate.py" "$HERE/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
+# session 8: the same recipe with the appendix's w_open2 = 0, both sources (the CoACD run that
+# ran was outputs/generalist/coacd_s0, stopped at 667 in session 6 and resumed from model_650)
+python train.py logger=none collision=hull task.reward.w_open2=0 \
+  hydra.run.dir=outputs/generalist/hull_open2_0_s0 &
+python train.py logger=none task.reward.w_open2=0 hydra.run.dir=outputs/generalist/coacd_open2_0_s0 &
+wait
+python "$HERE/keep.py" outputs/generalist/hull_open2_0_s0 hull_open2_0
+python "$HERE/keep.py" outputs/generalist/coacd_open2_0_s0 coacd_open2_0
+for name in hull_open2_0 coacd_open2_0; do
+  python "$HERE/evaluate.py" "$HERE/$name/model_1499.pt" "$name" --episodes "$EPISODES"
+done
+python experiments/compare_curves.py --switch 900 --out "$HERE/open_jaw_bonus.png" \
+  --title "generalist, seed 0: training success" \
+  "CoACD, w_open2 = 2=$HERE/coacd" "hull, w_open2 = 2=$HERE/hull" \
+  "CoACD, w_open2 = 0=$HERE/coacd_open2_0" "hull, w_open2 = 0=$HERE/hull_open2_0"
 python "$HERE/report.py"
 bash "$HERE/frames.sh" coacd "door flap" 4
