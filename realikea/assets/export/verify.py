@@ -32,6 +32,7 @@ from tqdm import tqdm
 
 from realikea.assets.export import FORMATS, SOURCES
 from realikea.assets.export.metadata import PART_LINK
+from realikea.assets.export.model import JOINT_TYPES
 from realikea.assets.export.release import MANIFEST, VERIFICATION, sha256_file
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
@@ -41,7 +42,6 @@ TOOLS = ("mujoco", "pybullet", "usd-core")  # the packages whose versions a veri
 LISTED = 5  # failures named on the command line before "and n more"
 MESSAGE = 600  # characters of a tool's diagnostics kept in a failure's message
 PYBULLET_JOINT = {"slide": pybullet.JOINT_PRISMATIC, "hinge": pybullet.JOINT_REVOLUTE}
-MUJOCO_JOINT = {"slide": mujoco.mjtJoint.mjJNT_SLIDE, "hinge": mujoco.mjtJoint.mjJNT_HINGE}
 LIMIT_TOLERANCE = 1e-5  # relative: URDF writes 9 significant digits, USD single precision
 
 
@@ -156,7 +156,7 @@ def _check_mjcf(model_file: Path, metadata: dict, pieces, checked: list[str]) ->
     _require(model.njnt == 1, f"{model.njnt} joints; expected one, {joint['name']!r}")
     found = (model.joint(0).name, int(model.jnt_type[0]))
     _require(
-        found == (joint["name"], int(MUJOCO_JOINT[joint["type"]])),
+        (found[0], JOINT_TYPES.get(found[1])) == (joint["name"], joint["type"]),
         f"joint {found[0]!r} of MuJoCo type {found[1]}; "
         f"expected {joint['name']!r} ({joint['type']})",
     )
