@@ -12,6 +12,7 @@ import pytest
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.files import WORKSPACE
+from realikea.reports.metrics import join_launches
 
 
 def grid():
@@ -99,7 +100,10 @@ def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
     lines = ["iteration,tag,value", "598,/episode/success,0.5", "599,/episode/success,0.6",
              "12,Train/mean_reward/time,7", "599,/episode/success,0.7",
              "12,Train/mean_reward/time,9", "600,/episode/success,0.8"]  # fmt: skip
-    assert grid().last_of_repeats(lines) == [
+    assert join_launches(lines) == [
         "iteration,tag,value", "598,/episode/success,0.5", "12,Train/mean_reward/time,7",
         "599,/episode/success,0.7", "12,Train/mean_reward/time,9", "600,/episode/success,0.8",
     ]  # fmt: skip
+    # a row only the earlier launch wrote at an iteration the later one repeated goes too
+    earlier_only = [*lines[:3], "599,/success/knob_drawer,0.1", *lines[3:]]
+    assert join_launches(earlier_only) == join_launches(lines)

@@ -31,6 +31,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import slim_checkpoint
+from realikea.reports.metrics import join_launches
 
 ROOT = Path(__file__).resolve().parents[2]
 KEPT = ROOT / "experiments/fidelity_ablation/grid"
@@ -101,19 +102,6 @@ def command(run: GridRun) -> list[str]:
     return out
 
 
-def last_of_repeats(lines: list[str]) -> list[str]:
-    """metrics.csv lines with each (iteration, tag) once, the later launch's: a resumed run
-    repeats the iteration of its checkpoint. rsl-rl's `.../time` tags count seconds from each
-    launch, not iterations, so they all stay."""
-    header, rows = lines[0], lines[1:]
-    last = {tuple(r.split(",")[:2]): i for i, r in enumerate(rows)}
-    kept = [
-        r for i, r in enumerate(rows)
-        if r.split(",")[1].endswith("/time") or last[tuple(r.split(",")[:2])] == i
-    ]  # fmt: skip
-    return [header, *kept]
-
-
 def keep(run: GridRun, seconds: list[float]) -> Path:
     """Copy what re-evaluation and the report need from the finished run to KEPT/NAME."""
     source, target = WORK / run.name, KEPT / run.name
@@ -122,7 +110,7 @@ def keep(run: GridRun, seconds: list[float]) -> Path:
     shutil.copytree(source / ".hydra", staging / ".hydra")
     shutil.copy(source / "eval.json", staging / "eval.json")
     metrics = (source / "metrics.csv").read_text().splitlines()
-    atomic_write_text(staging / "metrics.csv", "\n".join(last_of_repeats(metrics)) + "\n")
+    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
     last = checkpoints(source)[-1][1]
     slim_checkpoint(last, staging / last.name)
     atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")

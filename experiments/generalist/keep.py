@@ -4,8 +4,9 @@ learning curve, in experiments/generalist/NAME/.
 
     python experiments/generalist/keep.py RUN_DIR NAME [--continues EARLIER_RUN_DIR]
 
-A run resumed from another (`train.resume=`) logs from where that one stopped; `--continues`
-puts the earlier run's metrics (iterations before the resumed run's first) in front.
+A run resumed from another (`train.resume=`) logs from the checkpoint it resumed; `--continues`
+puts the earlier run's metrics in front, each iteration the two share taken from the resumed
+run (`realikea.reports.metrics.join_launches`).
 """
 
 from __future__ import annotations
@@ -15,8 +16,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import slim_checkpoint
+from realikea.reports.metrics import join_launches
 
 HERE = Path(__file__).resolve().parent
 
@@ -27,16 +30,14 @@ def main() -> None:
     parser.add_argument("name")
     parser.add_argument("--continues", type=Path, help="the run this one was resumed from")
     args = parser.parse_args()
-    last = max(args.run_dir.glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
+    last = checkpoints(args.run_dir)[-1][1]
     out = HERE / args.name
     out.mkdir(parents=True, exist_ok=True)
     print(f"kept {slim_checkpoint(last, out / last.name)}")
     rows = (args.run_dir / "metrics.csv").read_text().splitlines()
     if args.continues:
-        # the first iteration logged (rsl-rl's `.../time` tags count seconds, not iterations)
-        first = min(int(r.split(",")[0]) for r in rows[1:] if not r.split(",")[1].endswith("/time"))
         earlier = (args.continues / "metrics.csv").read_text().splitlines()
-        rows = rows[:1] + [r for r in earlier[1:] if int(r.split(",")[0]) < first] + rows[1:]
+        rows = join_launches(earlier + rows[1:])
     atomic_write_text(out / "metrics.csv", "\n".join(rows) + "\n")
     plot = HERE.parent / "plot_learning_curve.py"
     curve = out / "learning_curve.png"

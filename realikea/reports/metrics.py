@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import math
 from collections import defaultdict
 from pathlib import Path
 
@@ -16,3 +17,36 @@ def read_metrics(run_dir: Path) -> dict[str, tuple[list[int], list[float]]]:
             its.append(int(row["iteration"]))
             values.append(float(row["value"]))
     return series
+
+
+def join_launches(lines: list[str]) -> list[str]:
+    """metrics.csv lines (header first) of several launches of one run, each iteration as the
+    last launch that logged it wrote it: a run resumed from a checkpoint repeats that iteration
+    (and those after it, from an earlier checkpoint than its last), and its rows replace the
+    earlier launch's from there on. A launch starts where an iteration goes back or a row of
+    the current launch repeats; rsl-rl's `.../time` tags count seconds from each launch, not
+    iterations, so they all stay."""
+    header, rows = lines[0], lines[1:]
+    launches: list[list[str]] = [[]]
+    seen: set[tuple[str, str]] = set()
+    previous = -1
+    for row in rows:
+        iteration, tag = row.split(",")[:2]
+        if not tag.endswith("/time"):
+            if int(iteration) < previous or (iteration, tag) in seen:
+                launches.append([])
+                seen = set()
+            previous = int(iteration)
+            seen.add((iteration, tag))
+        launches[-1].append(row)
+    kept: list[str] = []
+    resumed_at = math.inf  # the first iteration of the launches after this one
+    for launch in reversed(launches):
+        cells = [row.split(",")[:2] for row in launch]
+        kept = [
+            row for row, (iteration, tag) in zip(launch, cells, strict=True)
+            if tag.endswith("/time") or int(iteration) < resumed_at
+        ] + kept  # fmt: skip
+        logged = [int(iteration) for iteration, tag in cells if not tag.endswith("/time")]
+        resumed_at = min([resumed_at, *logged])
+    return [header, *kept]
