@@ -245,9 +245,8 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
 
 
 def test_compute_counts_a_resumed_runs_iterations_and_every_launchs_wall_time(tmp_path):
-    (tmp_path / "resumed").mkdir()
-    (tmp_path / "resumed" / "eval.json").write_text(json.dumps({"checkpoint": "model_899.pt"}))
-    assert fidelity_ablation._trained_iterations(tmp_path / "resumed" / "eval.json", 301) == 900
+    assert fidelity_ablation._trained_iterations({"checkpoint": "model_899.pt"}, 301) == 900
+    assert fidelity_ablation._trained_iterations({}, 301) == 301  # no checkpoint named
     resumed = {"dir": tmp_path / "resumed", "iterations": 900, "launch_iterations": 301,
                "num_envs": 64, "eval": {"train_seconds": 602.0, "eval_seconds": 120.0},
                "wall": [3000.0, 1800.0]}  # fmt: skip

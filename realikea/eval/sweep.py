@@ -26,13 +26,19 @@ from realikea.pool.env_pool import EnvPool
 MODES = ("smooth", "normal", "high")
 
 
+def checkpoint_iteration(name: str) -> int | None:
+    """The iteration of a checkpoint file named `model_<it>.pt`, else None."""
+    match = re.fullmatch(r"model_(\d+)\.pt", Path(name).name)
+    return int(match.group(1)) if match else None
+
+
 def checkpoints(run: Path) -> list[tuple[int, Path]]:
     """(iteration, path) of every `model_<it>.pt` in a run directory, by iteration."""
     found = []
     for path in run.glob("model_*.pt"):
-        match = re.fullmatch(r"model_(\d+)\.pt", path.name)
-        if match:
-            found.append((int(match.group(1)), path))
+        iteration = checkpoint_iteration(path.name)
+        if iteration is not None:
+            found.append((iteration, path))
     if not found:
         raise RealIkeaError(f"{run}: no checkpoints model_<iteration>.pt")
     return sorted(found)

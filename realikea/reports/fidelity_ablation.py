@@ -17,6 +17,7 @@ from omegaconf import OmegaConf
 
 from realikea.eval.commands import run_eval
 from realikea.eval.stats import count, diff_interval, seed_difference, seed_interval, wilson
+from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
 from realikea.reports.metrics import read_metrics
 from realikea.tasks.failure_modes import FAILURE_MODES
@@ -62,6 +63,7 @@ def find_runs(roots: list[Path]) -> list[dict]:
                 continue
             cfg = OmegaConf.load(config)
             metrics = run_dir / "metrics.csv"
+            report = json.loads(eval_file.read_text())
             runs.append(
                 {
                     "dir": run_dir,
@@ -72,9 +74,9 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "contact": str(cfg.contact.name),
                     "seed": int(cfg.env.seed),
                     "launch_iterations": int(cfg.agent.max_iterations),
-                    "iterations": _trained_iterations(eval_file, int(cfg.agent.max_iterations)),
+                    "iterations": _trained_iterations(report, int(cfg.agent.max_iterations)),
                     "num_envs": int(cfg.env.num_envs),
-                    "eval": json.loads(eval_file.read_text()),
+                    "eval": report,
                     "scene": str(cfg.get("scene", {}).get("name", "freestanding")),
                     "metrics": read_metrics(run_dir) if metrics.is_file() else {},
                     "strips": sorted((run_dir / "videos").glob("*.png")),
@@ -84,12 +86,11 @@ def find_runs(roots: list[Path]) -> list[dict]:
     return runs
 
 
-def _trained_iterations(eval_file: Path, launch_iterations: int) -> int:
-    """Iterations behind the evaluated checkpoint (model_<i>.pt: i + 1): a resumed run's config
-    holds only its last launch's count."""
-    stem = Path(json.loads(eval_file.read_text()).get("checkpoint", "")).stem
-    number = stem.removeprefix("model_")
-    return int(number) + 1 if number.isdigit() else launch_iterations
+def _trained_iterations(report: dict, launch_iterations: int) -> int:
+    """Iterations behind the checkpoint eval.json evaluated (model_<i>.pt: i + 1): a resumed
+    run's config holds only its last launch's count."""
+    iteration = checkpoint_iteration(report.get("checkpoint", ""))
+    return launch_iterations if iteration is None else iteration + 1
 
 
 def _launch_seconds(run_dir: Path) -> list[float]:
