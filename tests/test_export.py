@@ -21,37 +21,35 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
-CONFIGS = EXPORT_SAMPLE
 REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
 
 
-@pytest.fixture(scope="module")
-def library(export_library):
-    """The three configurations built for both sources in high resistance."""
-    return export_library
-
-
 def _configs(catalog, *names):
-    return [next(catalog.configurations(part=CONFIGS[n][0], base=CONFIGS[n][1])) for n in names]
+    return [
+        next(catalog.configurations(part=EXPORT_SAMPLE[n][0], base=EXPORT_SAMPLE[n][1]))
+        for n in names
+    ]
 
 
 @pytest.fixture(scope="module")
-def exported(tmp_path_factory, library, catalog):
+def exported(tmp_path_factory, export_library, catalog):
     """Every format of the three configurations with CoACD, and the drawer's hull URDF."""
     out = tmp_path_factory.mktemp("export")
-    configs = _configs(catalog, *CONFIGS)
+    configs = _configs(catalog, *EXPORT_SAMPLE)
     for fmt in driver.EXPORTERS:
-        export_configurations(configs, fmt, "coacd", library, out, progress=False)
-    export_configurations(_configs(catalog, "drawer"), "urdf", "hull", library, out, progress=False)
+        export_configurations(configs, fmt, "coacd", export_library, out, progress=False)
+    export_configurations(
+        _configs(catalog, "drawer"), "urdf", "hull", export_library, out, progress=False
+    )
     return out
 
 
 def _id(name: str) -> str:
-    return "__".join(CONFIGS[name])
+    return "__".join(EXPORT_SAMPLE[name])
 
 
-def _built_model(library, name: str, source: str = "coacd") -> mujoco.MjModel:
-    return mujoco.MjModel.from_xml_path(str(library / _id(name) / f"model_{source}.xml"))
+def _built_model(export_library, name: str, source: str = "coacd") -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(str(export_library / _id(name) / f"model_{source}.xml"))
 
 
 def _pieces(model: mujoco.MjModel) -> int:
@@ -79,11 +77,13 @@ def _front_joint(model: mujoco.MjModel):
 # --------------------------------------------------------------------------------- URDF
 
 
-@pytest.mark.parametrize(("name", "source"), [(n, "coacd") for n in CONFIGS] + [("drawer", "hull")])
+@pytest.mark.parametrize(
+    ("name", "source"), [(n, "coacd") for n in EXPORT_SAMPLE] + [("drawer", "hull")]
+)
 def test_urdf_loads_in_pybullet_with_the_mjcf_joint_and_one_shape_per_piece(
-    exported, library, name, source
+    exported, export_library, name, source
 ):
-    model = _built_model(library, name, source)
+    model = _built_model(export_library, name, source)
     joint, damping, frictionloss = _front_joint(model)
     urdf = export_folder(exported, "urdf", source, _id(name)) / f"model_{source}.urdf"
     client = pybullet.connect(pybullet.DIRECT)
@@ -130,9 +130,9 @@ def _physics(stage: Usd.Stage) -> dict:
     return {kind: list(zip(paths, descs, strict=True)) for kind, (paths, descs) in parsed.items()}
 
 
-@pytest.mark.parametrize("name", list(CONFIGS))
-def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, library, name):
-    model = _built_model(library, name)
+@pytest.mark.parametrize("name", list(EXPORT_SAMPLE))
+def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, export_library, name):
+    model = _built_model(export_library, name)
     joint, damping, frictionloss = _front_joint(model)
     stage = Usd.Stage.Open(
         str(export_folder(exported, "usd", "coacd", _id(name)) / "model_coacd.usd")
@@ -175,9 +175,9 @@ def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, librar
 # --------------------------------------------------------------------------------- MJCF
 
 
-@pytest.mark.parametrize("name", list(CONFIGS))
-def test_mjcf_copy_compiles_with_the_built_joint(exported, library, name):
-    built = _built_model(library, name)
+@pytest.mark.parametrize("name", list(EXPORT_SAMPLE))
+def test_mjcf_copy_compiles_with_the_built_joint(exported, export_library, name):
+    built = _built_model(export_library, name)
     folder = export_folder(exported, "mjcf", "coacd", _id(name))
     copy = mujoco.MjModel.from_xml_path(str(folder / "model_coacd.xml"))
     assert (copy.nbody, copy.ngeom, copy.nmesh) == (built.nbody, built.ngeom, built.nmesh)
@@ -198,11 +198,11 @@ def _metadata(out, fmt: str, source: str, name: str) -> dict:
 
 
 @pytest.mark.parametrize(("fmt", "source", "name"), [
-    *(("usd", "coacd", n) for n in CONFIGS), ("urdf", "hull", "drawer"),
+    *(("usd", "coacd", n) for n in EXPORT_SAMPLE), ("urdf", "hull", "drawer"),
 ])  # fmt: skip
-def test_metadata_describes_the_configuration(exported, library, catalog, fmt, source, name):
+def test_metadata_describes_the_configuration(exported, export_library, catalog, fmt, source, name):
     meta = _metadata(exported, fmt, source, name)
-    part, base = catalog.part(CONFIGS[name][0]), catalog.base(CONFIGS[name][1])
+    part, base = catalog.part(EXPORT_SAMPLE[name][0]), catalog.base(EXPORT_SAMPLE[name][1])
     assert (meta["config_id"], meta["part_id"], meta["base_id"]) == (_id(name), part.id, base.id)
     assert (meta["category"], meta["family"], meta["kind"]) == (
         part.category,
@@ -216,7 +216,7 @@ def test_metadata_describes_the_configuration(exported, library, catalog, fmt, s
     resistance = meta["resistance"]
     assert set(resistance["modes"]) == {"smooth", "normal", "high"}
     assert resistance["built"]["mode"] == "high"
-    _, damping, frictionloss = _front_joint(_built_model(library, name, source))
+    _, damping, frictionloss = _front_joint(_built_model(export_library, name, source))
     assert resistance["built"]["damping"] == pytest.approx(damping)
     assert resistance["modes"]["high"]["frictionloss"] == pytest.approx(frictionloss, rel=1e-5)
     if base.joint == "slide":
@@ -261,13 +261,13 @@ def test_the_hull_certificate_swells_more_than_coacd(exported):
     assert hull["q_to_p_m"]["mean"] > 3 * coacd["q_to_p_m"]["mean"]
 
 
-def test_a_part_missing_from_the_report_is_measured(library, catalog, tmp_path):
+def test_a_part_missing_from_the_report_is_measured(export_library, catalog, tmp_path):
     (config,) = _configs(catalog, "flap")
     export_configurations(
         [config],
         "mjcf",
         "coacd",
-        library,
+        export_library,
         tmp_path,
         fidelity_csv=tmp_path / "no_report.csv",
         progress=False,
@@ -281,11 +281,11 @@ def test_a_part_missing_from_the_report_is_measured(library, catalog, tmp_path):
 # --------------------------------------------------------------------------------- files
 
 
-def test_a_relocated_folder_still_loads(library, catalog, tmp_path):
-    """Exported from a copy of the library that is then deleted, and moved elsewhere."""
+def test_a_relocated_folder_still_loads(export_library, catalog, tmp_path):
+    """Exported from a copy of the export_library that is then deleted, and moved elsewhere."""
     (config,) = _configs(catalog, "door")
-    copy = tmp_path / "library"
-    shutil.copytree(library / config.id, copy / config.id)
+    copy = tmp_path / "export_library"
+    shutil.copytree(export_library / config.id, copy / config.id)
     for fmt in driver.EXPORTERS:
         export_configurations([config], fmt, "coacd", copy, tmp_path / "out", progress=False)
     shutil.rmtree(copy)
@@ -305,20 +305,30 @@ def test_a_relocated_folder_still_loads(library, catalog, tmp_path):
     assert stage.GetDefaultPrim().HasAPI(UsdPhysics.ArticulationRootAPI)
 
 
-def test_a_rerun_skips_complete_current_configurations(library, catalog, tmp_path, monkeypatch):
+def test_a_rerun_skips_complete_current_configurations(
+    export_library, catalog, tmp_path, monkeypatch
+):
     configs = _configs(catalog, "drawer", "door")
-    first = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    first = export_configurations(
+        configs, "urdf", "coacd", export_library, tmp_path, progress=False
+    )
     assert (first.exported, first.current) == (2, 0)
     record = export_folder(tmp_path, "urdf", "coacd", configs[0].id) / "metadata.json"
     stamp = record.stat().st_mtime_ns
-    again = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    again = export_configurations(
+        configs, "urdf", "coacd", export_library, tmp_path, progress=False
+    )
     assert (again.exported, again.current) == (0, 2) and record.stat().st_mtime_ns == stamp
     monkeypatch.setattr(driver, "EXPORT_VERSION", "changed")  # what it was made from changed
-    redone = export_configurations(configs, "urdf", "coacd", library, tmp_path, progress=False)
+    redone = export_configurations(
+        configs, "urdf", "coacd", export_library, tmp_path, progress=False
+    )
     assert (redone.exported, redone.current) == (2, 0)
 
 
-def test_an_interrupted_export_leaves_no_partial_folder(library, catalog, tmp_path, monkeypatch):
+def test_an_interrupted_export_leaves_no_partial_folder(
+    export_library, catalog, tmp_path, monkeypatch
+):
     configs = _configs(catalog, "drawer", "flap", "door")
     written = driver.configuration_metadata
     calls = []
@@ -332,11 +342,13 @@ def test_an_interrupted_export_leaves_no_partial_folder(library, catalog, tmp_pa
 
     monkeypatch.setattr(driver, "configuration_metadata", crash_on_the_second)
     with pytest.raises(KeyboardInterrupt):
-        export_configurations(configs, "usd", "coacd", library, tmp_path, progress=False)
+        export_configurations(configs, "usd", "coacd", export_library, tmp_path, progress=False)
     parent = tmp_path / "usd_coacd"
     assert sorted(p.name for p in parent.iterdir()) == [configs[0].id]  # no staging left
     monkeypatch.setattr(driver, "configuration_metadata", written)
-    report = export_configurations(configs, "usd", "coacd", library, tmp_path, progress=False)
+    report = export_configurations(
+        configs, "usd", "coacd", export_library, tmp_path, progress=False
+    )
     assert (report.exported, report.current) == (2, 1)
     assert sorted(p.name for p in parent.iterdir()) == sorted(c.id for c in configs)
 
@@ -344,40 +356,44 @@ def test_an_interrupted_export_leaves_no_partial_folder(library, catalog, tmp_pa
 # --------------------------------------------------------------------------------- bad input
 
 
-def test_the_command_exports_one_configuration(library, tmp_path, capsys):
+def test_the_command_exports_one_configuration(export_library, tmp_path, capsys):
     part, base = EXPORT_SAMPLE["drawer"]
     args = ["--part", part, "--base", base, "--format", "mjcf", "--out", str(tmp_path)]
-    assert main(["assets", "export", *args, f"paths.library={library}"]) == 0
+    assert main(["assets", "export", *args, f"paths.library={export_library}"]) == 0
     assert "exported 1, up to date 0" in capsys.readouterr().out
     assert (export_folder(tmp_path, "mjcf", "coacd", _id("drawer")) / "metadata.json").is_file()
 
 
-def test_an_unknown_format_is_refused(library, catalog, tmp_path, capsys):
+def test_an_unknown_format_is_refused(export_library, catalog, tmp_path, capsys):
     out = tmp_path / "out"
     with pytest.raises(RealIkeaError, match="unknown export format 'obj'.*urdf, usd, mjcf"):
-        export_configurations(_configs(catalog, "drawer"), "obj", "coacd", library, out)
+        export_configurations(_configs(catalog, "drawer"), "obj", "coacd", export_library, out)
     with pytest.raises(SystemExit):
         main(["assets", "export", "--all", "--format", "obj", "--out", str(out)])
     assert "invalid choice: 'obj'" in capsys.readouterr().err
     assert not out.exists()
 
 
-def test_a_configuration_not_built_is_refused_with_how_to_build_it(library, tmp_path, capsys):
+def test_a_configuration_not_built_is_refused_with_how_to_build_it(
+    export_library, tmp_path, capsys
+):
     out = tmp_path / "out"
     args = ["--part", "knob_round_20", "--base", "flap_w60_h40", "--format", "urdf"]
-    assert main(["assets", "export", *args, "--out", str(out), f"paths.library={library}"]) == 2
+    assert (
+        main(["assets", "export", *args, "--out", str(out), f"paths.library={export_library}"]) == 2
+    )
     err = capsys.readouterr().err
     assert "knob_round_20__flap_w60_h40" in err
     assert "realikea assets build --part knob_round_20 --base flap_w60_h40" in err
     assert not out.exists()
 
 
-def test_an_out_that_is_a_file_is_refused(library, tmp_path, capsys):
+def test_an_out_that_is_a_file_is_refused(export_library, tmp_path, capsys):
     out = tmp_path / "taken.txt"
     out.write_text("mine")
     part, base = EXPORT_SAMPLE["drawer"]
     args = ["--part", part, "--base", base, "--format", "usd", "--out", str(out)]
-    assert main(["assets", "export", *args, f"paths.library={library}"]) == 2
+    assert main(["assets", "export", *args, f"paths.library={export_library}"]) == 2
     assert f"--out {out} is an existing file" in capsys.readouterr().err
     assert out.read_text() == "mine" and sorted(tmp_path.iterdir()) == [out]
 
