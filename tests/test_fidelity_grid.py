@@ -11,6 +11,7 @@ import pytest
 
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.runs import check_eval_spec
 from realikea.files import WORKSPACE
 from realikea.reports.metrics import join_launches
 
@@ -40,6 +41,29 @@ def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_te
     assert cfg.task.reward.w_open2 == 0.0  # the appendix's, not the generalist's 2.0
     assert cfg.train.eval_after.collision == "coacd"  # every run on the faithful geometry
     assert cfg.agent.max_iterations == grid().ITERATIONS
+
+
+def test_a_bad_end_of_training_evaluation_is_refused_before_training(tmp_path):
+    run = ["+experiment=fidelity_grid", "asset=two_point", "resistance=high"]
+    check_eval_spec(load_config(run).train.eval_after, run)  # the grid's own spec composes
+    bad = {
+        "train.eval_after.collision=cylinder": "cylinder",
+        "train.eval_after.split=heldout": "heldout",
+        "train.eval_after.dr=sometimes": "sometimes",
+        "train.eval_after.resistances=[high,sticky]": "sticky",
+        "train.eval_after.episodes=0": "episodes=0",
+    }
+    for override, named in bad.items():
+        with pytest.raises(RealIkeaError, match=f"train.eval_after: .*{named}"):
+            check_eval_spec(load_config([*run, override]).train.eval_after, run)
+    # train.py checks it first: the run fails in seconds and writes no checkpoint
+    out = subprocess.run(
+        [sys.executable, "train.py", *run, "train.eval_after.collision=cylinder",
+         f"hydra.run.dir={tmp_path}"],
+        cwd=WORKSPACE, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert out.returncode != 0 and "train.eval_after" in out.stderr
+    assert not list(tmp_path.glob("model_*.pt"))
 
 
 def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused():

@@ -26,9 +26,9 @@ from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.catalog import effective_split
 from realikea.assets.split import check_split_value
-from realikea.config import overrides_set
+from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
-from realikea.eval.setup import eval_setup, evaluate
+from realikea.eval.setup import eval_overrides_with_split, eval_setup, evaluate
 from realikea.eval.sweep import checkpoints
 from realikea.eval.table import CONTACT_STATS, cell_row
 from realikea.files import atomic_write_text, repo_path
@@ -70,6 +70,26 @@ def eval_overrides(
     if spec.get("seed") is not None:
         out.append(f"env.seed={int(spec.seed)}")
     return out
+
+
+def check_eval_spec(
+    spec: DictConfig, run_overrides: list[str], default_split: str = DEFAULT_SPLIT
+) -> None:
+    """Compose every mode's evaluation config before training starts, so a bad
+    `train.eval_after` (a collision, split, dr or mode that does not exist, no episodes) fails
+    in seconds instead of after the run."""
+    try:
+        if int(spec.get("episodes") or 0) < 1:
+            raise RealIkeaError(f"episodes={spec.get('episodes')}: use 1 or more")
+        if not spec.get("resistances"):
+            raise RealIkeaError("resistances: name at least one mode (smooth, normal, high)")
+        for mode in spec.resistances:
+            overrides = eval_overrides(
+                run_overrides, Path("model.pt"), str(mode), spec, default_split
+            )
+            load_config(eval_overrides_with_split(overrides), "eval")
+    except RealIkeaError as err:
+        raise RealIkeaError(f"train.eval_after: {err}") from err
 
 
 def _finite(value: float) -> float | None:

@@ -9,7 +9,7 @@ import hydra
 from hydra.core.hydra_config import HydraConfig
 from omegaconf import DictConfig
 
-from realikea.eval.runs import evaluate_run
+from realikea.eval.runs import check_eval_spec, evaluate_run
 from realikea.files import CONF_DIR
 from realikea.training.train import train
 
@@ -19,12 +19,14 @@ def main(cfg: DictConfig) -> None:
     """Train in this run's Hydra directory (config, checkpoints, metrics.csv, logs), then
     optionally evaluate the last checkpoint (`train.eval_after`: eval.json)."""
     hydra_cfg = HydraConfig.get()
+    overrides = list(hydra_cfg.overrides.task)
+    if cfg.train.get("eval_after"):
+        check_eval_spec(cfg.train.eval_after, overrides)  # fail now, not after training
     begin = time.perf_counter()
     checkpoint = train(cfg, hydra_cfg.runtime.output_dir)
     print(f"final checkpoint: {checkpoint}")
     if cfg.train.get("eval_after"):
         seconds = time.perf_counter() - begin
-        overrides = list(hydra_cfg.overrides.task)
         evaluate_run(
             cfg.train.eval_after, hydra_cfg.runtime.output_dir, checkpoint, overrides, seconds
         )
