@@ -190,7 +190,8 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     # one seed a cell: Wilson's interval on 1 of 2 episodes, Newcombe's on the difference
-    assert "| coacd | smooth | two_point | 1 | 0.50 [0.09, 0.91] | 0.50 [0.09, 0.91] |" in text
+    # the tiny run's training success never reached 50 %: 0 seeds learned
+    assert "| coacd | smooth | two_point | 1 | 0 | 0.50 [0.09, 0.91] | 0.50 [0.09, 0.91] |" in text
     assert "| coacd | smooth | two_point | high | 0.50 | 0.00 | +0.50 [" in text
     assert "| not significant |" in text and "evaluation split test" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
@@ -202,6 +203,18 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert "eval_hook_success.mp4)" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):
         assert (out / f"{name}.png").stat().st_size > 5_000
+
+
+def test_the_interval_table_counts_the_seeds_that_learned():
+    its = list(range(100))
+    learned = {"metrics": {"/episode/success": (its, [0.0] * 50 + [0.9] * 50)}}
+    never = {"metrics": {"/episode/success": (its, [0.0] * 100)}}
+    key = ("coacd", "high", "two_point")
+    cells = {key: {"high": {"runs": [(45, 50), (0, 50)], "seeds": 2}}}
+    lines = fidelity_ablation.interval_lines(
+        cells, {key: [learned, never]}, ["coacd"], ["high"], ["two_point"], ["high"]
+    )
+    assert lines[-1].startswith("| coacd | high | two_point | 2 | 1 | 0.45 [")
 
 
 def test_iterations_to_success_is_the_first_window_reaching_the_level():

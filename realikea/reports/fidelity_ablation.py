@@ -218,17 +218,22 @@ def difference_interval(a: list[tuple[int, int]], b: list[tuple[int, int]]):
     return seed_difference(a, b)
 
 
-def interval_lines(cells: dict, variants, resistances, categories, modes) -> list[str]:
-    """Success per cell with its 95 % interval and the number of seeds."""
+def interval_lines(
+    cells: dict, by_cell: dict, variants, resistances, categories, modes
+) -> list[str]:
+    """Success per cell with its 95 % interval, the number of seeds and how many of them
+    learned to open in training."""
     lines = [
         "## Success with 95 % intervals",
         "",
         "Mean success over seeds [95 % interval]: with one seed, Wilson's interval over its "
         "episodes; with several, a percentile bootstrap that redraws seeds, then each seed's "
-        "episodes (`realikea.eval.stats.seed_interval`), so seed-to-seed spread counts.",
+        "episodes (`realikea.eval.stats.seed_interval`), so seed-to-seed spread counts. "
+        "`learned`: the seeds whose training success reached 50 % (`to 50 %` below); a run "
+        "that never finds an opening pulls its cell's mean down whatever the geometry.",
         "",
-        "| collision | trained on | category | seeds | " + " | ".join(modes) + " |",
-        "|---|---|---|---:|" + "---|" * len(modes),
+        "| collision | trained on | category | seeds | learned | " + " | ".join(modes) + " |",
+        "|---|---|---|---:|---:|" + "---|" * len(modes),
     ]
     for v, res, category in present_cells(cells, variants, resistances, categories):
         cell = cells[v, res, category]
@@ -240,7 +245,9 @@ def interval_lines(cells: dict, variants, resistances, categories, modes) -> lis
             mean, lo, hi = rate_interval(cell[m]["runs"])
             values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
         seeds = max(c["seeds"] for c in cell.values())
-        lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
+        learned = sum(iterations_to_success(r) is not None for r in by_cell[v, res, category])
+        row = f"| {v} | {res} | {category} | {seeds} | {learned} | "
+        lines.append(row + " | ".join(values) + " |")
     return lines
 
 
@@ -624,7 +631,7 @@ def report(roots: list[Path], out: Path) -> Path:
         "",
         "![success](success.png)",
         "",
-        *interval_lines(cells, variants, resistances, categories, modes),
+        *interval_lines(cells, by_cell, variants, resistances, categories, modes),
         "",
         *difference_lines(cells, variants, resistances, categories, modes),
         "",
