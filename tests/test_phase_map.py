@@ -7,6 +7,7 @@ import pytest
 from realikea.errors import RealIkeaError
 from realikea.reports.phase_map import (
     boundary_force,
+    difference_table,
     evaluate_phase_map,
     map_policy,
     phase_table,
@@ -67,3 +68,20 @@ def test_a_two_cell_map_runs_resumes_and_reports(tmp_path):
     assert "| 70 N |" in table and "μ = 0.3" in table and "*" in table  # 2 x 1.0 x 70 >= 20
     png = plot_phase_map(read_cells(results), PULL, tmp_path / "map.png")
     assert png.stat().st_size > 10_000
+
+
+def test_the_difference_table_bolds_only_intervals_that_exclude_zero():
+    def cell(policy, force, success):
+        return (policy, "two_point", "elliptic", force, 0.5), {"success": success, "episodes": 20}
+
+    cells = dict(
+        [cell("coacd", 70.0, 1.0), cell("hull", 70.0, 0.2), cell("coacd", 5.0, 0.5),
+         cell("hull", 5.0, 0.45), cell("grasp_sampler", 5.0, 0.0)]
+    )  # fmt: skip
+    lines = difference_table(cells, "coacd", "hull")
+    assert lines[0].startswith("**coacd − hull, two_point, elliptic cones**")
+    (strong,) = [x for x in lines if x.startswith("| 70 N |")]
+    (weak,) = [x for x in lines if x.startswith("| 5 N |")]
+    assert strong.startswith("| 70 N | **+0.80 [+") and "**" not in weak
+    assert weak.startswith("| 5 N | +0.05 [-")
+    assert difference_table(cells, "hull", "policy_not_mapped") == []

@@ -26,6 +26,7 @@ from realikea.reports.phase_map import (
     FORCES,
     FRICTIONS,
     check_axes,
+    difference_table,
     evaluate_phase_map,
     map_policy,
     phase_table,
@@ -40,8 +41,9 @@ RESULTS = HERE / "phase_map" / "cells.jsonl"
 SOURCES = HERE / "phase_map_axes.md"
 
 
-def write_report(results: Path) -> Path:
-    """phase_map.md and phase_map.png beside `results`, from every cell in it."""
+def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) -> Path:
+    """phase_map.md and phase_map.png beside `results`, from every cell in it; with the
+    success difference of the two `compare` policies where both were mapped."""
     cells = read_cells(results)
     if not cells:
         raise RealIkeaError(f"{results}: no cells to report")
@@ -58,6 +60,7 @@ def write_report(results: Path) -> Path:
         "",
         SOURCES.read_text(),
         *phase_table(cells, pull),
+        *difference_table(cells, *compare),
     ]
     out = results.with_name("phase_map.md")
     atomic_write_text(out, "\n".join(lines))
@@ -75,6 +78,10 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=1000, help="env.seed of the draw")
     parser.add_argument("--results", type=Path, default=RESULTS)
     parser.add_argument("--report-only", action="store_true")
+    parser.add_argument(
+        "--compare", nargs=2, default=["coacd", "hull"], metavar=("A", "B"),
+        help="policy labels whose success difference A − B the report tabulates",
+    )  # fmt: skip
     args = parser.parse_args()
     try:
         check_axes(args.forces, args.frictions, args.cones, args.categories)
@@ -84,7 +91,7 @@ def main() -> int:
                 policies, args.categories, args.results, args.forces, args.frictions,
                 args.cones, args.episodes, args.seed,
             )  # fmt: skip
-        print(f"report: {write_report(args.results)}")
+        print(f"report: {write_report(args.results, tuple(args.compare))}")
     except RealIkeaError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2

@@ -22,6 +22,7 @@ from realikea.assets.catalog import CATEGORIES, effective_split
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, evaluate
+from realikea.eval.stats import count, diff_interval
 from realikea.policies.registry import POLICIES
 
 # the axes' default values; their sources are in experiments/fidelity_ablation/phase_map.md
@@ -201,6 +202,39 @@ def phase_table(cells: dict[tuple, dict], pull: float) -> list[str]:
                 slip = "–" if c.get("slip_ratio") is None else f"{c['slip_ratio']:.2f}"
                 mark = "*" if 2 * mu * force >= pull else ""
                 row.append(f"{c['success']:.2f} ({slip}){mark}")
+            lines.append(f"| {force:g} N | " + " | ".join(row) + " |")
+        lines.append("")
+    return lines
+
+
+def difference_table(cells: dict[tuple, dict], first: str, second: str) -> list[str]:
+    """Markdown: `first` − `second` success per category and cone over force x friction, with
+    Newcombe's 95 % interval; ** where it excludes zero. Empty unless both policies are there."""
+    lines = []
+    for policy, category, cone in _groups(cells):
+        if policy != first or (second, category, cone) not in _groups(cells):
+            continue
+        forces, frictions = _axes(cells, (first, category, cone))
+        lines += [
+            f"**{first} − {second}, {category}, {cone} cones** (success difference [95 % "
+            "interval, Newcombe]; **bold** where the interval excludes zero)",
+            "",
+            "| grip per jaw | " + " | ".join(f"μ = {mu:g}" for mu in frictions) + " |",
+            "|---|" + "---:|" * len(frictions),
+        ]
+        for force in reversed(forces):
+            row = []
+            for mu in frictions:
+                a = cells.get((first, category, cone, force, mu))
+                b = cells.get((second, category, cone, force, mu))
+                if a is None or b is None:
+                    row.append("")
+                    continue
+                k1, n1 = count(a["success"], a["episodes"]), a["episodes"]
+                k2, n2 = count(b["success"], b["episodes"]), b["episodes"]
+                low, high = diff_interval(k1, n1, k2, n2)
+                text = f"{k1 / n1 - k2 / n2:+.2f} [{low:+.2f}, {high:+.2f}]"
+                row.append(f"**{text}**" if low > 0 or high < 0 else text)
             lines.append(f"| {force:g} N | " + " | ".join(row) + " |")
         lines.append("")
     return lines
