@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import json
 import subprocess
 import sys
 
@@ -94,6 +95,27 @@ def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch)
     assert not module.running(run)
     (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
     assert not module.running(run)
+
+
+def test_a_launchs_wall_time_is_recorded_while_it_runs(tmp_path, monkeypatch, capsys):
+    module = grid()
+    monkeypatch.setattr(module, "WORK", tmp_path / "work")
+    monkeypatch.setattr(module, "KEPT", tmp_path / "kept")
+    monkeypatch.setattr(module, "POLL_SECONDS", 0.2)
+    run = module.planned(_args(seeds=[0]))[0]
+    (tmp_path / "work").mkdir()
+    module.record_wall(run, [100.0])  # an earlier launch
+    wall = tmp_path / "work" / f"{run.name}.wall.json"
+    # the "training" prints its own wall record mid-run, then exits without an eval.json
+    script = f"import time; time.sleep(1.0); print(open({str(wall)!r}).read())"
+    monkeypatch.setattr(module, "command", lambda r: [sys.executable, "-c", script])
+    assert module.run_all([run], jobs=1) == 1  # no eval.json: failed, nothing kept
+    assert "FAILED" in capsys.readouterr().out and not (tmp_path / "kept").exists()
+    mid_run = json.loads((tmp_path / "work" / f"{run.name}.log").read_text())
+    final = module.wall_times(run)
+    assert final[0] == 100.0 and final[1] >= 1.0
+    # mid-run the launch had its own entry already: a stopped launch would still count
+    assert mid_run[0] == 100.0 and 0.1 < mid_run[1] < final[1]
 
 
 def test_a_sweep_over_a_group_value_that_does_not_exist_fails_before_writing(tmp_path):

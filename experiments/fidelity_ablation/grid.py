@@ -10,6 +10,8 @@ A run is kept once its eval.json exists; a stopped run (outputs/fidelity_grid/NA
 checkpoints, no eval.json) continues from its last checkpoint (`train.resume=`) for the
 iterations it still lacks, appending to its metrics.csv. A run whose training process is alive
 (outputs/fidelity_grid/NAME.pid) is left to it, so two drivers never train the same run.
+Each launch's wall time is written to outputs/fidelity_grid/NAME.wall.json as it runs (every
+poll), so a launch stopped with the session still counts in the compute table.
 Runs go seed by seed, so every cell has one seed before any has two. NAME is
 <collision>_<resistance>_<category>_s<seed>, with a `paper_` prefix for the paper's schedule.
 """
@@ -43,6 +45,7 @@ AXES = {  # the grid's axes as the options name them, in the order the runs go
 }
 ITERATIONS = 900  # fidelity_grid.yaml's agent.max_iterations
 PAPER = {"dr.switch_iteration": 900, "agent.max_iterations": 1500}  # the paper's schedule
+POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
 
 
 @dataclass(frozen=True)
@@ -141,15 +144,20 @@ def launch(run: GridRun) -> subprocess.Popen:
 
 
 def wall_times(run: GridRun) -> list[float]:
+    """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
     path = WORK / f"{run.name}.wall.json"
     return json.loads(path.read_text()) if path.is_file() else []
+
+
+def record_wall(run: GridRun, seconds: list[float]) -> None:
+    atomic_write_text(WORK / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
 
 
 def run_all(runs: list[GridRun], jobs: int) -> int:
     """Launch the runs `jobs` at a time; keep each that finishes with its eval.json."""
     queue = [r for r in runs if not (KEPT / r.name / "eval.json").is_file()]
     print(f"{len(runs) - len(queue)} of {len(runs)} runs already kept; {len(queue)} to go")
-    active: dict[GridRun, tuple[subprocess.Popen, float]] = {}
+    active: dict[GridRun, tuple[subprocess.Popen, float, list[float]]] = {}
     failed = 0
     while queue or active:
         while queue and len(active) < jobs:
@@ -160,14 +168,14 @@ def run_all(runs: list[GridRun], jobs: int) -> int:
             if (WORK / run.name / "eval.json").is_file():  # trained and evaluated, not kept
                 print(f"kept {keep(run, wall_times(run))}", flush=True)
                 continue
-            active[run] = (launch(run), time.time())
-        time.sleep(10)
-        for run, (proc, begin) in list(active.items()):
+            active[run] = (launch(run), time.time(), wall_times(run))
+        time.sleep(POLL_SECONDS)
+        for run, (proc, begin, earlier) in list(active.items()):
+            seconds = [*earlier, time.time() - begin]
+            record_wall(run, seconds)
             if proc.poll() is None:
                 continue
             del active[run]
-            seconds = [*wall_times(run), time.time() - begin]
-            atomic_write_text(WORK / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
             if proc.returncode == 0 and (WORK / run.name / "eval.json").is_file():
                 print(f"kept {keep(run, seconds)} ({seconds[-1] / 60:.1f} min)", flush=True)
             else:
