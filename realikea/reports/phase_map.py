@@ -177,33 +177,42 @@ def boundary_force(mu: float, pull: float) -> float:
     return pull / (2 * mu)
 
 
+def _grid_table(title: str, forces, frictions, entry) -> list[str]:
+    """Markdown: `title`, then force down (strongest first) x friction across, each cell
+    `entry(force, mu)`."""
+    lines = [
+        title,
+        "",
+        "| grip per jaw | " + " | ".join(f"μ = {mu:g}" for mu in frictions) + " |",
+        "|---|" + "---:|" * len(frictions),
+    ]
+    for force in reversed(forces):
+        row = " | ".join(entry(force, mu) for mu in frictions)
+        lines.append(f"| {force:g} N | {row} |")
+    return [*lines, ""]
+
+
 def phase_table(cells: dict[tuple, dict], pull: float) -> list[str]:
     """Markdown: per policy, category and cone, success (slip ratio) over force x friction,
     each cell marked where the pinch's analytic capacity 2 mu F reaches the required pull."""
     lines = []
     for group in _groups(cells):
-        forces, frictions = _axes(cells, group)
         policy, category, cone = group
         episodes = next(c["episodes"] for k, c in cells.items() if k[:3] == group)
-        lines += [
+
+        def entry(force, mu, group=group):
+            c = cells.get((*group, force, mu))
+            if c is None:
+                return ""
+            slip = "–" if c.get("slip_ratio") is None else f"{c['slip_ratio']:.2f}"
+            mark = "*" if 2 * mu * force >= pull else ""
+            return f"{c['success']:.2f} ({slip}){mark}"
+
+        title = (
             f"**{policy}, {category}, {cone} cones** ({episodes} episodes a cell; success, "
-            "slip ratio at the peak pull in brackets; * where 2 μ F ≥ the required pull)",
-            "",
-            "| grip per jaw | " + " | ".join(f"μ = {mu:g}" for mu in frictions) + " |",
-            "|---|" + "---:|" * len(frictions),
-        ]
-        for force in reversed(forces):
-            row = []
-            for mu in frictions:
-                c = cells.get((*group, force, mu))
-                if c is None:
-                    row.append("")
-                    continue
-                slip = "–" if c.get("slip_ratio") is None else f"{c['slip_ratio']:.2f}"
-                mark = "*" if 2 * mu * force >= pull else ""
-                row.append(f"{c['success']:.2f} ({slip}){mark}")
-            lines.append(f"| {force:g} N | " + " | ".join(row) + " |")
-        lines.append("")
+            "slip ratio at the peak pull in brackets; * where 2 μ F ≥ the required pull)"
+        )
+        lines += _grid_table(title, *_axes(cells, group), entry)
     return lines
 
 
@@ -214,29 +223,23 @@ def difference_table(cells: dict[tuple, dict], first: str, second: str) -> list[
     for policy, category, cone in _groups(cells):
         if policy != first or (second, category, cone) not in _groups(cells):
             continue
-        forces, frictions = _axes(cells, (first, category, cone))
-        lines += [
+
+        def entry(force, mu, category=category, cone=cone):
+            a = cells.get((first, category, cone, force, mu))
+            b = cells.get((second, category, cone, force, mu))
+            if a is None or b is None:
+                return ""
+            k1, n1 = count(a["success"], a["episodes"]), a["episodes"]
+            k2, n2 = count(b["success"], b["episodes"]), b["episodes"]
+            low, high = diff_interval(k1, n1, k2, n2)
+            text = f"{k1 / n1 - k2 / n2:+.2f} [{low:+.2f}, {high:+.2f}]"
+            return f"**{text}**" if low > 0 or high < 0 else text
+
+        title = (
             f"**{first} − {second}, {category}, {cone} cones** (success difference [95 % "
-            "interval, Newcombe]; **bold** where the interval excludes zero)",
-            "",
-            "| grip per jaw | " + " | ".join(f"μ = {mu:g}" for mu in frictions) + " |",
-            "|---|" + "---:|" * len(frictions),
-        ]
-        for force in reversed(forces):
-            row = []
-            for mu in frictions:
-                a = cells.get((first, category, cone, force, mu))
-                b = cells.get((second, category, cone, force, mu))
-                if a is None or b is None:
-                    row.append("")
-                    continue
-                k1, n1 = count(a["success"], a["episodes"]), a["episodes"]
-                k2, n2 = count(b["success"], b["episodes"]), b["episodes"]
-                low, high = diff_interval(k1, n1, k2, n2)
-                text = f"{k1 / n1 - k2 / n2:+.2f} [{low:+.2f}, {high:+.2f}]"
-                row.append(f"**{text}**" if low > 0 or high < 0 else text)
-            lines.append(f"| {force:g} N | " + " | ".join(row) + " |")
-        lines.append("")
+            "interval, Newcombe]; **bold** where the interval excludes zero)"
+        )
+        lines += _grid_table(title, *_axes(cells, (first, category, cone)), entry)
     return lines
 
 
