@@ -14,6 +14,7 @@ import torch
 from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
+from realikea.eval.stats import wilson
 from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.reports.generalist import evaluate_grid, read_cells, success_table
@@ -183,6 +184,10 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     assert [r.split(",")[0] for r in rows[1:]] == ["0", "1"]
     assert (run_dir / "sweep" / "sweep.png").stat().st_size > 10_000
     assert "most robust checkpoint: " in out and "**most robust**" in out
+    table = (run_dir / "sweep" / "sweep.md").read_text()
+    assert "split test" in table  # held-out parts unless asset.split says otherwise
+    lo, hi = wilson(round(float(rows[1].split(",")[7]) * 6), 6)  # mean S over 3 modes x 2
+    assert f"[{lo:.2f}, {hi:.2f}]" in table.splitlines()[6]
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):

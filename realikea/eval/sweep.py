@@ -1,11 +1,14 @@
 """`realikea eval sweep run=DIR`: every checkpoint of a run under the three resistance modes.
 
-The run's asset category and collision source are used unless the command line sets them.
+The run's asset category and collision source are used unless the command line sets them; the
+parts are the held-out test split unless `asset.split` is set, as for `realikea eval`.
 
 The appendix's policy selection: success and return against iteration per mode, and the most
 robust checkpoint (highest success averaged over the modes; ties broken by the smaller spread
-across modes, then by the mean return). One env pool per mode serves all checkpoints, so every
-checkpoint meets the same configurations and poses.
+across modes, then by the mean return), with Wilson's interval on that mean (the modes' episodes
+pooled): neighbouring checkpoints whose intervals overlap are not told apart by the sweep.
+One env pool per mode serves all checkpoints, so every checkpoint meets the same configurations
+and poses.
 """
 
 from __future__ import annotations
@@ -18,7 +21,8 @@ import numpy as np
 from realikea.config import load_config, override_key
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import run_episodes
-from realikea.eval.setup import effective_config
+from realikea.eval.setup import effective_config, eval_overrides_with_split
+from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
 from realikea.files import atomic_path, atomic_write_text, repo_path
 from realikea.pool.env_pool import EnvPool
@@ -96,7 +100,8 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
         inherited += [f"asset.{k}={asset[k]}" for k in ("part", "base", "kind") if asset.get(k)]
     results: dict[tuple[int, str], tuple[float, float]] = {}
     for mode in MODES:
-        cfg = load_config([*inherited, *rest, f"resistance={mode}", "policy=checkpoint"], "eval")
+        asked = eval_overrides_with_split([*inherited, *rest])
+        cfg = load_config([*asked, f"resistance={mode}", "policy=checkpoint"], "eval")
         cfg = effective_config(cfg, run_cfg, rest)
         cfg.contacts.log = False
         episodes = int(cfg.episodes)
@@ -128,15 +133,18 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
         "",
         f"{episodes} episodes per checkpoint and mode; asset={cfg.asset.category} "
         f"(kind {cfg.asset.kind}) "
-        f"collision={cfg.collision.source}, env.seed={cfg.env.seed}.",
+        f"collision={cfg.collision.source}, split {cfg.asset.split}, scene {cfg.scene.name}, "
+        f"dr={cfg.dr.mode}, env.seed={cfg.env.seed}. Mean S: over the modes, with Wilson's 95 % "
+        f"interval on the {len(MODES) * episodes} episodes pooled.",
         "",
-        "| iteration | " + " | ".join(f"S {m}" for m in MODES) + " | mean S | mean return |",
+        "| iteration | " + " | ".join(f"S {m}" for m in MODES) + " | mean S [95 %] | mean return |",
         "|---:|" + "---:|" * (len(MODES) + 2),
     ]
     for r in rows:
         cells = " | ".join(f"{r[f'success_{m}']:.2f}" for m in MODES)
         mark = " **most robust**" if r is best else ""
-        mean = f"{r['mean_success']:.2f} | {r['mean_return']:.0f}"
+        lo, hi = wilson(round(r["mean_success"] * len(MODES) * episodes), len(MODES) * episodes)
+        mean = f"{r['mean_success']:.2f} [{lo:.2f}, {hi:.2f}] | {r['mean_return']:.0f}"
         lines.append(f"| {r['iteration']}{mark} | {cells} | {mean} |")
     atomic_write_text(out / "sweep.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
