@@ -19,9 +19,11 @@ from omegaconf import OmegaConf
 
 from realikea.config import load_config
 from realikea.eval.runs import eval_overrides
+from realikea.eval.stats import seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
 from realikea.reports import fidelity_ablation
 from realikea.tasks.contacts import STRATEGIES
+from realikea.tasks.failure_modes import FAILURE_MODES
 
 TINY = [
     "asset=two_point",
@@ -215,6 +217,32 @@ def test_the_interval_table_counts_the_seeds_that_learned():
         cells, {key: [learned, never]}, ["coacd"], ["high"], ["two_point"], ["high"]
     )
     assert lines[-1].startswith("| coacd | high | two_point | 2 | 1 | 0.45 [")
+
+
+def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
+    seeds = [(0, 50), (1, 50)]  # two seeds: a bootstrap over seeds and episodes
+    coacd = {"runs": seeds, "failure_runs": {f: seeds for f in FAILURE_MODES}}
+    slipping = [(30, 50), (40, 50)]
+    hull = {"runs": seeds, "failure_runs": {**coacd["failure_runs"], "slip": slipping}}
+    cells = {
+        ("coacd", "high", "two_point"): {"high": coacd},
+        ("hull", "high", "two_point"): {"high": hull},
+    }
+    args = (cells, ["coacd", "hull"], ["high"], ["two_point"])
+    table = fidelity_ablation.failure_lines(*args)
+    mean, lo, hi = seed_interval(slipping)
+    assert table[-1].startswith(f"| hull | high | two_point | {mean:.2f} [{lo:.2f}, {hi:.2f}] |")
+    slip = fidelity_ablation.difference_lines(*args, ["high"], "slip")
+    assert slip[0] == "## Slip rate: CoACD − hull"
+    d, lo, hi = seed_difference(seeds, slipping)
+    assert slip[-1] == (
+        f"| coacd | high | two_point | high | 0.01 | 0.70 | {d:+.2f} [{lo:+.2f}, {hi:+.2f}] "
+        "| significant |"
+    )
+    assert hi < 0
+    # success differs by nothing: the same table of success says so
+    same = fidelity_ablation.difference_lines(*args, ["high"])
+    assert same[-1].endswith("| not significant |")
 
 
 def test_iterations_to_success_is_the_first_window_reaching_the_level():

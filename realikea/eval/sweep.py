@@ -1,4 +1,4 @@
-"""`realikea eval sweep run=DIR`: every checkpoint of a run under the three resistance modes.
+"""`realikea eval sweep RUN_DIR`: every checkpoint of a run under the three resistance modes.
 
 The run's asset category and collision source are used unless the command line sets them; the
 parts are the held-out test split unless `asset.split` is set, as for `realikea eval`.

@@ -150,10 +150,19 @@ def aggregate(runs: list[dict]) -> tuple[dict, dict]:
             out["seeds"] = len(entries)
             # (successes, episodes) per seed: what the intervals are computed from
             out["runs"] = [(count(e["success"], e["episodes"]), e["episodes"]) for e in entries]
-            failures = [e["failure_modes"] for e in entries if e.get("failure_modes")]
-            if failures:
+            labelled = [e for e in entries if e.get("failure_modes")]
+            if labelled:
+                # (episodes failed that way, episodes) per seed, as "runs" for the success
+                out["failure_runs"] = {
+                    f: [
+                        (count(e["failure_modes"].get(f, 0.0), e["episodes"]), e["episodes"])
+                        for e in labelled
+                    ]
+                    for f in FAILURE_MODES
+                }
                 out["failure_modes"] = {
-                    f: float(np.mean([x.get(f, 0.0) for x in failures])) for f in FAILURE_MODES
+                    f: float(np.mean([k / n for k, n in runs]))
+                    for f, runs in out["failure_runs"].items()
                 }
             strategies = [e["strategies"] for e in entries if e.get("strategies")]
             if strategies:
@@ -251,15 +260,28 @@ def interval_lines(
     return lines
 
 
-def difference_lines(cells: dict, variants, resistances, categories, modes) -> list[str]:
-    """CoACD minus hull (of the same preset) per training resistance, category and evaluation
-    mode, with its interval and whether it excludes zero."""
+def measured_runs(entry: dict, measure: str) -> list[tuple[int, int]] | None:
+    """(count, episodes) per seed of `measure` in one cell and mode: "success" or a failure
+    mode (None when the cell's evaluations carry no failure modes)."""
+    if measure == "success":
+        return entry["runs"]
+    return entry.get("failure_runs", {}).get(measure)
+
+
+def difference_lines(
+    cells: dict, variants, resistances, categories, modes, measure: str = "success"
+) -> list[str]:
+    """CoACD minus hull (of the same preset) of `measure` (success, or the rate of a failure
+    mode) per training resistance, category and evaluation mode, with its interval and whether
+    it excludes zero."""
     pairs = [(v, "hull" + v[5:]) for v in variants if v.startswith("coacd")]
+    title = "CoACD − hull" if measure == "success" else f"{measure.capitalize()} rate: CoACD − hull"
     lines = [
-        "## CoACD − hull",
+        f"## {title}",
         "",
-        "Difference of mean success [95 % interval] (Newcombe's with one seed a side, else the "
-        "two-level bootstrap); a difference is named only where the interval excludes zero.",
+        f"Difference of the mean {measure} rate [95 % interval] (Newcombe's with one seed a "
+        "side, else the two-level bootstrap); a difference is named only where the interval "
+        "excludes zero.",
         "",
         "| CoACD | trained on | category | evaluated in | CoACD | hull | CoACD − hull [95 %] | |",
         "|---|---|---|---|---:|---:|---|---|",
@@ -271,11 +293,15 @@ def difference_lines(cells: dict, variants, resistances, categories, modes) -> l
                 for m in modes:
                     if m not in a or m not in b:
                         continue
-                    d, lo, hi = difference_interval(a[m]["runs"], b[m]["runs"])
+                    runs_a, runs_b = measured_runs(a[m], measure), measured_runs(b[m], measure)
+                    if not runs_a or not runs_b:
+                        continue
+                    d, lo, hi = difference_interval(runs_a, runs_b)
                     verdict = "significant" if lo > 0 or hi < 0 else "not significant"
+                    mean_a, mean_b = (np.mean([k / n for k, n in r]) for r in (runs_a, runs_b))
                     lines.append(
-                        f"| {coacd} | {res} | {category} | {m} | {a[m]['success']:.2f} | "
-                        f"{b[m]['success']:.2f} | {d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
+                        f"| {coacd} | {res} | {category} | {m} | {mean_a:.2f} | {mean_b:.2f} | "
+                        f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
                     )
     return lines
 
@@ -287,17 +313,20 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
         "",
         "Fraction of all episodes that failed (fail or partial) in each mode "
         "(realikea/tasks/failure_modes.py; validated in "
-        "experiments/fidelity_ablation/failure_modes.md), mean over seeds; they add up to "
-        "1 − success.",
+        "experiments/fidelity_ablation/failure_modes.md), mean over seeds [95 % interval, as "
+        "for the success]; the means add up to 1 − success.",
         "",
         "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
-        "|---|---|---|" + "---:|" * len(FAILURE_MODES),
+        "|---|---|---|" + "---|" * len(FAILURE_MODES),
     ]
     for v, res, category in present_cells(cells, variants, resistances, categories):
         entry = cells[v, res, category].get(mode, {})
-        if "failure_modes" in entry:
-            values = " | ".join(_fmt(entry["failure_modes"][f]) for f in FAILURE_MODES)
-            lines.append(f"| {v} | {res} | {category} | {values} |")
+        if "failure_runs" in entry:
+            values = []
+            for f in FAILURE_MODES:
+                mean, lo, hi = rate_interval(entry["failure_runs"][f])
+                values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
+            lines.append(f"| {v} | {res} | {category} | " + " | ".join(values) + " |")
     return lines
 
 
@@ -636,6 +665,8 @@ def report(roots: list[Path], out: Path) -> Path:
         *difference_lines(cells, variants, resistances, categories, modes),
         "",
         *failure_lines(cells, variants, resistances, categories),
+        "",
+        *difference_lines(cells, variants, resistances, categories, ["high"], "slip"),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",
