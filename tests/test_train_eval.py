@@ -188,6 +188,12 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     assert "split test" in table  # held-out parts unless asset.split says otherwise
     lo, hi = wilson(round(float(rows[1].split(",")[7]) * 6), 6)  # mean S over 3 modes x 2
     assert f"[{lo:.2f}, {hi:.2f}]" in table.splitlines()[6]
+    # rerun with the same overrides: every (checkpoint, mode) comes from results.jsonl
+    assert len((run_dir / "sweep" / "results.jsonl").read_text().splitlines()) == 6
+    assert main(["eval", "sweep", str(run_dir), *args]) == 0
+    again = capsys.readouterr().out
+    assert "iteration 0" not in again.split("# Checkpoint sweep")[0]
+    assert (run_dir / "sweep" / "sweep.md").read_text() == table
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):
