@@ -245,6 +245,26 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     assert same[-1].endswith("| not significant |")
 
 
+def test_videos_are_recorded_from_the_checkpoint_kept_in_the_run_directory(tmp_path, monkeypatch):
+    run_dir = tmp_path / "hull_high_two_point_s0"
+    run_dir.mkdir()
+    (run_dir / "model_899.pt").write_bytes(b"")
+    trained_at = "policy.path=/gone/outputs/hull_high_two_point_s0/model_899.pt"
+    command = f"realikea eval asset=two_point {trained_at} resistance=high episodes=50"
+    run = {
+        "dir": run_dir,
+        "resistance": "high",
+        "eval": {"checkpoint": "model_899.pt", "modes": {"high": {"command": command}}},
+    }
+    calls = []
+    monkeypatch.setattr(fidelity_ablation, "run_eval", lambda args: calls.append(args.overrides))
+    fidelity_ablation.record_videos([run], episodes=8)
+    (overrides,) = calls
+    assert f"policy.path={(run_dir / 'model_899.pt').resolve()}" in overrides
+    assert trained_at not in overrides and "episodes=50" not in overrides
+    assert "episodes=8" in overrides and "video=true" in overrides
+
+
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
     module = fidelity_ablation
     its = list(range(100))

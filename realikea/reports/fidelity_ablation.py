@@ -564,12 +564,18 @@ def plot_learning_curves(by_cell, variants, resistances, categories, path: Path)
 
 def record_videos(runs: list[dict], episodes: int) -> None:
     """`realikea eval <the run's eval command> video=true episodes=N` under its training
-    resistance: the first of the N episodes with each strategy label."""
+    resistance, with the checkpoint kept in the run's directory (the command names where it was
+    trained): the first of the N episodes with each strategy label."""
     for run in runs:
         entry = run["eval"]["modes"].get(run["resistance"]) or next(
             iter(run["eval"]["modes"].values())
         )
-        overrides = [o for o in entry["command"].split()[2:] if not o.startswith("episodes=")]
+        checkpoint = run["dir"] / run["eval"]["checkpoint"]
+        overrides = [
+            o
+            for o in entry["command"].split()[2:]
+            if not o.startswith(("episodes=", "policy.path="))
+        ] + [f"policy.path={checkpoint.resolve()}"]
         stem = run["dir"] / "videos" / "eval.mp4"
         for old in stem.parent.glob("eval_*"):  # labels of an earlier recording
             old.unlink()
