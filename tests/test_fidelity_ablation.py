@@ -265,6 +265,21 @@ def test_videos_are_recorded_from_the_checkpoint_kept_in_the_run_directory(tmp_p
     assert "episodes=8" in overrides and "video=true" in overrides
 
 
+def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
+    def run(collision, iterations, switch):
+        return {"collision": collision, "gripper": "franka_hand", "contact": "elliptic",
+                "iterations": iterations, "switch": switch}  # fmt: skip
+
+    grid, paper = run("coacd", 900, 300), run("hull", 1500, 900)
+    assert fidelity_ablation.variant(grid, presets=1) == "coacd"  # one schedule: no tag
+    assert fidelity_ablation.variant(grid, 1, schedules=2) == "coacd (900 its, switch 300)"
+    assert fidelity_ablation.variant(paper, 1, 2) == "hull (1500 its, switch 900)"
+    assert fidelity_ablation.variant(paper, 2, 2) == (
+        "hull (franka_hand, elliptic; 1500 its, switch 900)"
+    )
+    assert fidelity_ablation.schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
+
+
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
     module = fidelity_ablation
     its = list(range(100))

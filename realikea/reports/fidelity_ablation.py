@@ -76,6 +76,7 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "launch_iterations": int(cfg.agent.max_iterations),
                     "iterations": _trained_iterations(report, int(cfg.agent.max_iterations)),
                     "num_envs": int(cfg.env.num_envs),
+                    "switch": _switch_iteration(cfg),
                     "eval": report,
                     "scene": str(cfg.get("scene", {}).get("name", "freestanding")),
                     "metrics": read_metrics(run_dir) if metrics.is_file() else {},
@@ -91,6 +92,18 @@ def _trained_iterations(report: dict, launch_iterations: int) -> int:
     run's config holds only its last launch's count."""
     iteration = checkpoint_iteration(report.get("checkpoint", ""))
     return launch_iterations if iteration is None else iteration + 1
+
+
+def _switch_iteration(cfg) -> int | None:
+    """The iteration the two-phase pose randomization switches at (None for other dr modes)."""
+    dr = cfg.get("dr") or {}
+    return int(dr.switch_iteration) if dr.get("mode") == "two_phase" else None
+
+
+def schedule(run: dict) -> str:
+    """A run's training schedule: its iterations and, with two-phase randomization, the switch."""
+    switch = f", switch {run['switch']}" if run.get("switch") is not None else ""
+    return f"{run['iterations']} its{switch}"
 
 
 def _launch_seconds(run_dir: Path) -> list[float]:
@@ -120,11 +133,12 @@ def iterations_to_success(run: dict, level: float = 0.5, window: int = 20) -> in
     return None
 
 
-def variant(run: dict, presets: int) -> str:
-    """The collision source, with the gripper/contact preset when several are present."""
-    if presets == 1:
-        return run["collision"]
-    return f"{run['collision']} ({run['gripper']}, {run['contact']})"
+def variant(run: dict, presets: int, schedules: int = 1) -> str:
+    """The collision source, with the gripper/contact preset and the training schedule when
+    several are present (the paper's 1,500 iterations are not pooled with the grid's 900)."""
+    tags = [f"{run['gripper']}, {run['contact']}"] if presets > 1 else []
+    tags += [schedule(run)] if schedules > 1 else []
+    return run["collision"] + (f" ({'; '.join(tags)})" if tags else "")
 
 
 def ordered(values, order=()) -> list:
@@ -136,9 +150,10 @@ def aggregate(runs: list[dict]) -> tuple[dict, dict]:
     """cell (variant, resistance, category) -> eval mode -> mean summary over seeds; and
     cell -> its runs."""
     presets = len({(r["gripper"], r["contact"]) for r in runs})
+    schedules = len({schedule(r) for r in runs})
     by_cell = defaultdict(list)
     for run in runs:
-        run["variant"] = variant(run, presets)
+        run["variant"] = variant(run, presets, schedules)
         by_cell[run["variant"], run["resistance"], run["category"]].append(run)
     cells = {}
     for key, members in by_cell.items():
