@@ -280,6 +280,13 @@ def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
     assert fidelity_ablation.schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
 
 
+def test_the_curves_average_a_trailing_window_of_iterations():
+    its, means = fidelity_ablation.trailing_mean([2, 0, 1, 3], [1.0, 0.0, 0.0, 1.0], window=2)
+    assert its.tolist() == [1, 2, 3] and means.tolist() == [0.0, 0.5, 1.0]  # sorted by iteration
+    its, means = fidelity_ablation.trailing_mean([0], [1.0], window=2)
+    assert len(its) == len(means) == 0  # no full window yet
+
+
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
     module = fidelity_ablation
     its = list(range(100))

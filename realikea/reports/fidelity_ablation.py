@@ -28,6 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 DEFAULT_OUT = "experiments/fidelity_ablation"
 MODES = ("smooth", "normal", "high")
 OUTCOMES = ("fail", "partial", "success")
+SUCCESS_WINDOW = 20  # iterations averaged for "training success reached 50 %" and the curves
+SEED_STYLES = ("-", "--", ":", "-.")
 OUTCOME_COLOURS = {"fail": "tab:red", "partial": "tab:orange", "success": "tab:green"}
 STRATEGY_COLOURS = {
     "pinch": "tab:blue",
@@ -122,7 +124,9 @@ def train_seconds(run: dict) -> float | None:
     return float(sum(map(sum, parts))) if any(parts) else None
 
 
-def iterations_to_success(run: dict, level: float = 0.5, window: int = 20) -> int | None:
+def iterations_to_success(
+    run: dict, level: float = 0.5, window: int = SUCCESS_WINDOW
+) -> int | None:
     """The first iteration from which the training success, averaged over the next `window`
     iterations, reaches `level` (None if it never does)."""
     its, values = (np.asarray(x) for x in run["metrics"].get("/episode/success", ([], [])))
@@ -546,8 +550,9 @@ def plot_strategies(totals, variants, categories, path: Path) -> None:
 
 
 def plot_learning_curves(by_cell, variants, resistances, categories, path: Path) -> None:
-    """Training success fraction against iteration: a panel per (category, training
-    resistance), a colour per collision source, one line per seed."""
+    """Training success fraction against iteration, averaged over the `window` iterations of
+    `iterations_to_success` (raw per-iteration values swing 0 to 1): a panel per (category,
+    training resistance), a colour per collision source, a line style per seed."""
     fig, axes = plt.subplots(
         len(categories), len(resistances),
         figsize=(max(6, 4 * len(resistances)), 2.8 * len(categories)),
@@ -558,23 +563,44 @@ def plot_learning_curves(by_cell, variants, resistances, categories, path: Path)
         for col, res in enumerate(resistances):
             ax = axes[row, col]
             for i, v in enumerate(variants):
-                for k, run in enumerate(by_cell.get((v, res, category), [])):
+                for k, run in enumerate(sorted(by_cell.get((v, res, category), []), key=_seed)):
                     its, values = run["metrics"].get("/episode/success", ([], []))
-                    label = v if k == 0 else None
-                    colour = colours[i % len(colours)]
-                    ax.plot(its, values, color=colour, lw=0.8, alpha=0.8, label=label)
+                    its, values = trailing_mean(its, values, SUCCESS_WINDOW)
+                    style = SEED_STYLES[k % len(SEED_STYLES)]
+                    ax.plot(
+                        its, values, color=colours[i % len(colours)], ls=style, lw=1.0,
+                        label=f"{v}, s{run['seed']}",
+                    )  # fmt: skip
             ax.set(title=f"{category}, trained on {res}", ylim=(-0.02, 1.02))
             ax.grid(alpha=0.3)
             if row == len(categories) - 1:
                 ax.set_xlabel("iteration")
             if col == 0:
                 ax.set_ylabel("training success")
-    legend = {}  # label -> line, over every panel: each source once
+    legend = {}  # label -> line, over every panel: each source and seed once
     for ax in axes.flat:
         handles, labels = ax.get_legend_handles_labels()
         legend.update(zip(labels, handles, strict=True))
-    axes[0, 0].legend(legend.values(), legend.keys(), fontsize=8)
+    axes[0, -1].legend(
+        legend.values(), legend.keys(), fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1)
+    )
     _save(fig, path)
+
+
+def _seed(run: dict) -> int:
+    return run["seed"]
+
+
+def trailing_mean(its, values, window: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mean of `values` over each `window` consecutive iterations, at the window's last
+    iteration (nothing before a full window)."""
+    its, values = np.asarray(its), np.asarray(values, float)
+    if len(values) < window:
+        return its[:0], values[:0]
+    order = np.argsort(its, kind="stable")
+    its, values = its[order], values[order]
+    means = np.convolve(values, np.ones(window) / window, mode="valid")
+    return its[window - 1 :], means
 
 
 def record_videos(runs: list[dict], episodes: int) -> None:
