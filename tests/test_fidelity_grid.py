@@ -7,6 +7,7 @@ import importlib.util
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -95,6 +96,18 @@ def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch)
     assert not module.running(run)
     (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
     assert not module.running(run)
+
+
+def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs():
+    module = grid()
+    found = [(it, Path(f"model_{it}.pt")) for it in (0, 50, 100, 150, 200, 1499)]
+    paper = module.planned(_args(seeds=[0, 1], paper=True))
+    assert [r.swept for r in paper] == [r.seed == 0 for r in paper] and paper[0].swept
+    kept = [p.name for p in module.kept_checkpoints(paper[0], found)]
+    assert kept == ["model_0.pt", "model_100.pt", "model_200.pt", "model_1499.pt"]
+    assert module.kept_checkpoints(paper[-1], found) == [Path("model_1499.pt")]  # seed 1
+    grid_run = module.planned(_args(seeds=[0]))[0]
+    assert not grid_run.swept and module.kept_checkpoints(grid_run, found) == [found[-1][1]]
 
 
 def test_a_launchs_wall_time_is_recorded_while_it_runs(tmp_path, monkeypatch, capsys):

@@ -14,6 +14,9 @@ Each launch's wall time is written to outputs/fidelity_grid/NAME.wall.json as it
 poll), so a launch stopped with the session still counts in the compute table.
 Runs go seed by seed, so every cell has one seed before any has two. NAME is
 <collision>_<resistance>_<category>_s<seed>, with a `paper_` prefix for the paper's schedule.
+Seed 0 of the paper's schedule also keeps its checkpoints every SWEEP_EVERY iterations (slim,
+about 0.2 MB each), so the appendix's checkpoint selection can be rerun from git:
+`realikea eval sweep experiments/fidelity_ablation/grid/paper_<collision>_high_two_point_s0`.
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ AXES = {  # the grid's axes as the options name them, in the order the runs go
 ITERATIONS = 900  # fidelity_grid.yaml's agent.max_iterations
 PAPER = {"dr.switch_iteration": 900, "agent.max_iterations": 1500}  # the paper's schedule
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
+SWEEP_EVERY = 100  # iterations between the checkpoints a swept run keeps (1,500 its: 16 kept)
 
 
 @dataclass(frozen=True)
@@ -62,6 +66,11 @@ class GridRun:
     def name(self) -> str:
         stem = f"{self.collision}_{self.resistance}_{self.category}_s{self.seed}"
         return f"paper_{stem}" if self.paper else stem
+
+    @property
+    def swept(self) -> bool:
+        """Whether the run keeps checkpoints for the sweep: one paper-scale run per source."""
+        return self.paper and self.seed == 0
 
     @property
     def iterations(self) -> int:
@@ -114,12 +123,20 @@ def keep(run: GridRun, seconds: list[float]) -> Path:
     shutil.copy(source / "eval.json", staging / "eval.json")
     metrics = (source / "metrics.csv").read_text().splitlines()
     atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
-    last = checkpoints(source)[-1][1]
-    slim_checkpoint(last, staging / last.name)
+    for path in kept_checkpoints(run, checkpoints(source)):
+        slim_checkpoint(path, staging / path.name)
     atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
     shutil.rmtree(target, ignore_errors=True)
     staging.rename(target)
     return target
+
+
+def kept_checkpoints(run: GridRun, found: list[tuple[int, Path]]) -> list[Path]:
+    """The checkpoints `keep` copies of the run's (iteration, path) list: the last one, and for
+    a swept run also those every SWEEP_EVERY iterations."""
+    last = found[-1]
+    every = [f for f in found[:-1] if f[0] % SWEEP_EVERY == 0] if run.swept else []
+    return [path for _, path in [*every, last]]
 
 
 def running(run: GridRun) -> bool:
