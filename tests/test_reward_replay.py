@@ -3,11 +3,12 @@ observations, rewards and ending.
 
 `tests/data/reference_episode.npz` was recorded (commit 3fa6ac1's task code, before the task
 became named terms) by running `hook_oracle` with Gaussian action noise (sigma 0.3, seed 0, so
-the jerk and IK terms are exercised) for one episode of the configuration its `overrides` name, under MuJoCo 3.x. MuJoCo 4.0.0
-(2026-11-06) replays it to round-off: rewards within 7e-13 relative (1.2e-11 absolute, the return
-5798.3896387627 vs ...24), observations within 9e-13, the same stage, outcome and ending. So the
-floats are compared to 1e-9 relative, three orders above the engine's round-off and far below what
-a changed reward term, weight or control step moves (whole units), and the discrete ending exactly.
+the jerk and IK terms are exercised) for one episode of the configuration its `overrides` name,
+under MuJoCo 3.x. MuJoCo 4.0.0 (2026-11-06) replays it to round-off: rewards within 7e-13
+relative (1.2e-11 absolute; the return 5798.3896387627 against ...24), observations within
+9e-13, the same stage, outcome and ending. So floats are compared to 1e-9 relative, three orders
+above the engine's round-off and far below what a changed reward term, weight or control step
+moves (whole units), and the discrete ending exactly.
 """
 
 from __future__ import annotations
