@@ -10,6 +10,7 @@ import shutil
 import subprocess
 import sys
 
+import mujoco
 import pytest
 import yaml
 from hydra import compose, initialize_config_dir
@@ -123,6 +124,7 @@ def test_tiny_run_writes_eval_json_under_three_modes(sweep):
     report = json.loads((run / "eval.json").read_text())
     assert report["checkpoint"] == "model_1.pt" and report["train_seconds"] > 0
     assert list(report["modes"]) == ["smooth", "normal", "high"]
+    assert report["versions"]["mujoco"] == mujoco.__version__ and report["versions"]["torch"]
     for mode, entry in report["modes"].items():
         assert entry["episodes"] == 2
         assert entry["fail"] + entry["partial"] + entry["success"] == pytest.approx(1.0)

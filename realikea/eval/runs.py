@@ -32,6 +32,7 @@ from realikea.eval.setup import eval_overrides_with_split, eval_setup, evaluate
 from realikea.eval.sweep import checkpoints
 from realikea.eval.table import CONTACT_STATS, cell_row
 from realikea.files import atomic_write_text, repo_path
+from realikea.provenance import result_versions
 
 EVAL_FILE = "eval.json"
 # run overrides the evaluation replaces or that only concern training
@@ -135,6 +136,7 @@ def evaluate_run(
         print(f"eval_after {mode}: {json.dumps(result.summary())}", flush=True)
     report["eval_seconds"] = time.perf_counter() - begin
     report["spec"] = OmegaConf.to_container(spec, resolve=True)
+    report["versions"] = result_versions()
     atomic_write_text(run_dir / EVAL_FILE, json.dumps(report, indent=2) + "\n")
     return report
 

@@ -22,7 +22,6 @@ import tempfile
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from importlib import metadata as package_metadata
 from pathlib import Path
 
 import mujoco
@@ -36,6 +35,7 @@ from realikea.assets.export.model import JOINT_TYPES
 from realikea.assets.export.release import MANIFEST, VERIFICATION, sha256_file
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
+from realikea.provenance import package_versions
 
 VERIFICATION_VERSION = "1"  # bump when verification.json's layout changes
 TOOLS = ("mujoco", "pybullet", "usd-core")  # the packages whose versions a verification records
@@ -412,17 +412,6 @@ def _shown(path: Path, root: Path) -> str:
     return path.relative_to(root).as_posix() if path.is_relative_to(root) else str(path)
 
 
-def tool_versions() -> dict[str, str | None]:
-    """The installed versions of the tools the models are reloaded in."""
-    versions = {}
-    for name in TOOLS:
-        try:
-            versions[name] = package_metadata.version(name)
-        except package_metadata.PackageNotFoundError:
-            versions[name] = None
-    return versions
-
-
 def verification_record(report: VerifyReport) -> dict:
     """What verification.json holds: the tools, counts per `<format>_<collision>`, the failures
     with their messages and the wall time."""
@@ -435,7 +424,7 @@ def verification_record(report: VerifyReport) -> dict:
     return {
         "verification_version": VERIFICATION_VERSION,
         "manifest_sha256": sha256_file(manifest) if manifest.is_file() else None,
-        "tools": tool_versions(),
+        "tools": package_versions(TOOLS),
         "checks": {
             "mjcf": "compiles in MuJoCo; one joint of the listed type and range; one colliding "
             "mesh geom per convex piece on the part",
