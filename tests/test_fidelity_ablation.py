@@ -247,7 +247,7 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     assert same[-1].endswith("| not significant |")
 
 
-def test_videos_are_recorded_from_the_checkpoint_kept_in_the_run_directory(tmp_path, monkeypatch):
+def test_videos_are_recorded_once_from_the_checkpoint_kept_in_the_run_directory(tmp_path, monkeypatch):
     run_dir = tmp_path / "hull_high_two_point_s0"
     run_dir.mkdir()
     (run_dir / "model_899.pt").write_bytes(b"")
@@ -257,11 +257,13 @@ def test_videos_are_recorded_from_the_checkpoint_kept_in_the_run_directory(tmp_p
         "dir": run_dir,
         "resistance": "high",
         "eval": {"checkpoint": "model_899.pt", "modes": {"high": {"command": command}}},
+        "strips": [],
     }
+    recorded = {**run, "dir": tmp_path / "recorded", "strips": [tmp_path / "eval_hook_success.png"]}
     calls = []
     monkeypatch.setattr(fidelity_ablation, "run_eval", lambda args: calls.append(args.overrides))
-    fidelity_ablation.record_videos([run], episodes=8)
-    (overrides,) = calls
+    fidelity_ablation.record_videos([recorded, run], episodes=8)
+    (overrides,) = calls  # the run with strips already is not recorded again
     assert f"policy.path={(run_dir / 'model_899.pt').resolve()}" in overrides
     assert trained_at not in overrides and "episodes=50" not in overrides
     assert "episodes=8" in overrides and "video=true" in overrides

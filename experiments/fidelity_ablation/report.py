@@ -7,9 +7,9 @@ ROOT defaults to outputs/fidelity_ablation (all sweeps in it); runs are found at
 Cells are (collision source, training resistance, category) per gripper/contact preset;
 seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation),
 success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` runs
-`realikea eval ... video=true episodes=N` once per run (under its training resistance, N =
---video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames) of each
-strategy label into RUN/videos/; the report shows every
+`realikea eval ... video=true episodes=N` once per run not yet recorded (under its training
+resistance, N = --video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames)
+of each strategy label into RUN/videos/; the report shows every
 RUN/videos/*.png strip it finds and names the MP4 beside it.
 """
 

@@ -606,8 +606,12 @@ def trailing_mean(its, values, window: int) -> tuple[np.ndarray, np.ndarray]:
 def record_videos(runs: list[dict], episodes: int) -> None:
     """`realikea eval <the run's eval command> video=true episodes=N` under its training
     resistance, with the checkpoint kept in the run's directory (the command names where it was
-    trained): the first of the N episodes with each strategy label."""
+    trained): the first of the N episodes with each strategy label. A run whose videos/ already
+    holds strips is skipped (delete the folder to record it again), so a stopped recording
+    resumes."""
     for run in runs:
+        if run["strips"]:
+            continue
         entry = run["eval"]["modes"].get(run["resistance"]) or next(
             iter(run["eval"]["modes"].values())
         )
