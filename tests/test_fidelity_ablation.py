@@ -247,7 +247,7 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     assert same[-1].endswith("| not significant |")
 
 
-def test_videos_are_recorded_once_from_the_checkpoint_kept_in_the_run_directory(tmp_path, monkeypatch):
+def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path, monkeypatch):
     run_dir = tmp_path / "hull_high_two_point_s0"
     run_dir.mkdir()
     (run_dir / "model_899.pt").write_bytes(b"")
