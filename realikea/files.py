@@ -33,6 +33,11 @@ def repo_path(value: str | Path) -> Path:
     return path if path.is_absolute() else WORKSPACE / path
 
 
+def shown_path(path: Path) -> str:
+    """A path as a committed file names it: relative to the workspace when inside it."""
+    return str(path.relative_to(WORKSPACE) if path.is_relative_to(WORKSPACE) else path)
+
+
 @contextmanager
 def atomic_path(path: Path):
     """Yield a temporary sibling of `path` (same suffix, so writers pick the same format) that

@@ -6,6 +6,7 @@ import json
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from realikea.cli import main
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.eval.stats import wilson
-from realikea.files import WORKSPACE
+from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.reports.generalist import evaluate_grid, read_cells, success_table
 from realikea.tasks import observations
@@ -194,6 +195,12 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     again = capsys.readouterr().out
     assert "iteration 0" not in again.split("# Checkpoint sweep")[0]
     assert (run_dir / "sweep" / "sweep.md").read_text() == table
+
+
+def test_a_committed_table_names_a_run_of_the_checkout_relative_to_it():
+    run = WORKSPACE / "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
+    assert shown_path(run) == "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
+    assert shown_path(Path("/elsewhere/run")) == "/elsewhere/run"
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):

@@ -27,7 +27,7 @@ from realikea.eval.protocol import run_episodes
 from realikea.eval.setup import effective_config, eval_overrides_with_split
 from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
-from realikea.files import atomic_path, atomic_write_text, repo_path
+from realikea.files import atomic_path, atomic_write_text, repo_path, shown_path
 from realikea.pool.env_pool import EnvPool
 
 MODES = ("smooth", "normal", "high")
@@ -152,7 +152,7 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
     atomic_write_text(out / "sweep.csv", to_csv(rows))
     plot(rows, best, out / "sweep.png")
     lines = [
-        f"# Checkpoint sweep of {run}",
+        f"# Checkpoint sweep of {shown_path(run)}",
         "",
         f"{episodes} episodes per checkpoint and mode; asset={cfg.asset.category} "
         f"(kind {cfg.asset.kind}) "

@@ -27,7 +27,7 @@ from realikea.assets.export.metadata import (
 from realikea.assets.export.model import Articulation, read_articulation
 from realikea.errors import RealIkeaError
 from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, report_rows
-from realikea.files import WORKSPACE, repo_path, staging_dir
+from realikea.files import repo_path, shown_path, staging_dir
 
 EXPORT_VERSION = "1"  # bump when an exporter or metadata.json changes what it writes
 LISTED = 5  # configurations named in an error before "and n more"
@@ -109,11 +109,6 @@ def _digest(paths: Sequence[Path]) -> str:
     return sha.hexdigest()
 
 
-def _shown(path: Path) -> str:
-    """A path as metadata names it: relative to the workspace when inside it."""
-    return str(path.relative_to(WORKSPACE) if path.is_relative_to(WORKSPACE) else path)
-
-
 def is_current(folder: Path, key: str) -> bool:
     """Whether an export folder is complete (it exists only once renamed) and made with `key`."""
     record = folder / "metadata.json"
@@ -164,7 +159,7 @@ def export_configurations(
         if digest not in certificates:
             row = rows.get(config.part.id)
             certificates[digest] = fidelity_certificate(
-                visual, pieces, source, row, _shown(fidelity_csv)
+                visual, pieces, source, row, shown_path(fidelity_csv)
             )
         name = f"model_{source}{exporter.suffix}"
         with staging_dir(folder) as tmp:
