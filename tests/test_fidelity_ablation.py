@@ -25,6 +25,7 @@ from realikea.files import CONF_DIR, WORKSPACE
 from realikea.reports import fidelity_ablation
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
+from realikea.tasks.randomization import two_phase_switch
 
 TINY = [
     "asset=two_point",
@@ -282,6 +283,10 @@ def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
         "hull (franka_hand, elliptic; 1500 its, switch 900)"
     )
     assert fidelity_ablation.schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
+    # the switch is read from the run's dr: only a two-phase schedule has one
+    assert two_phase_switch({"mode": "two_phase", "switch_iteration": 900}) == 900
+    assert two_phase_switch({"mode": "randomized", "switch_iteration": 900}) is None
+    assert two_phase_switch(None) is None  # a config without dr
 
 
 def test_the_curves_average_a_trailing_window_of_iterations():

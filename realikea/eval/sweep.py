@@ -29,6 +29,7 @@ from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
 from realikea.files import atomic_path, atomic_write_text, repo_path, shown_path
 from realikea.pool.env_pool import EnvPool
+from realikea.tasks.randomization import two_phase_switch
 
 MODES = ("smooth", "normal", "high")
 RESULTS = "results.jsonl"  # one line per (checkpoint, mode) evaluated, for resuming
@@ -70,8 +71,9 @@ def most_robust(rows: list[dict]) -> dict:
     return max(rows, key=lambda r: (r["mean_success"], -r["success_spread"], r["mean_return"]))
 
 
-def plot(rows: list[dict], best: dict, path: Path) -> None:
-    """Mean success and mean return against iteration, one line per mode plus their mean."""
+def plot(rows: list[dict], best: dict, path: Path, switch: int | None = None) -> None:
+    """Mean success and mean return against iteration, one line per mode plus their mean; the
+    most robust checkpoint and, for a two-phase run, the switch to randomized poses marked."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -87,6 +89,8 @@ def plot(rows: list[dict], best: dict, path: Path) -> None:
             ax.plot(its, [r[f"{key}_{mode}"] for r in rows], marker=".", label=mode)
         ax.plot(its, [r[f"mean_{key}"] for r in rows], "k--", lw=1.5, label="mean of modes")
         ax.axvline(best["iteration"], color="grey", lw=0.8, ls=":")
+        if switch is not None:
+            ax.axvline(switch, color="C3", lw=0.8, ls="-.", label="randomized poses from here")
         ax.set_xlabel("training iteration")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
@@ -150,7 +154,7 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
         rows.append(row)
     best = most_robust(rows)
     atomic_write_text(out / "sweep.csv", to_csv(rows))
-    plot(rows, best, out / "sweep.png")
+    plot(rows, best, out / "sweep.png", two_phase_switch(run_cfg.get("dr")))
     lines = [
         f"# Checkpoint sweep of {shown_path(run)}",
         "",

@@ -21,6 +21,7 @@ from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
 from realikea.reports.metrics import read_metrics
 from realikea.tasks.failure_modes import FAILURE_MODES
+from realikea.tasks.randomization import two_phase_switch
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -78,7 +79,7 @@ def find_runs(roots: list[Path]) -> list[dict]:
                     "launch_iterations": int(cfg.agent.max_iterations),
                     "iterations": _trained_iterations(report, int(cfg.agent.max_iterations)),
                     "num_envs": int(cfg.env.num_envs),
-                    "switch": _switch_iteration(cfg),
+                    "switch": two_phase_switch(cfg.get("dr")),
                     "eval": report,
                     "scene": str(cfg.get("scene", {}).get("name", "freestanding")),
                     "metrics": read_metrics(run_dir) if metrics.is_file() else {},
@@ -94,12 +95,6 @@ def _trained_iterations(report: dict, launch_iterations: int) -> int:
     run's config holds only its last launch's count."""
     iteration = checkpoint_iteration(report.get("checkpoint", ""))
     return launch_iterations if iteration is None else iteration + 1
-
-
-def _switch_iteration(cfg) -> int | None:
-    """The iteration the two-phase pose randomization switches at (None for other dr modes)."""
-    dr = cfg.get("dr") or {}
-    return int(dr.switch_iteration) if dr.get("mode") == "two_phase" else None
 
 
 def schedule(run: dict) -> str:

@@ -42,6 +42,12 @@ class Randomization:
         )
 
 
+def two_phase_switch(dr: DictConfig | dict | None) -> int | None:
+    """The iteration a two-phase schedule switches to randomized poses; None for other modes."""
+    dr = dr or {}
+    return int(dr["switch_iteration"]) if dr.get("mode") == "two_phase" else None
+
+
 class PosePerturbation:
     """Applies sampled offsets to one compiled scene, always relative to its nominal poses.
 
