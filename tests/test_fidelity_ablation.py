@@ -20,7 +20,7 @@ from omegaconf import OmegaConf
 
 from realikea.config import load_config
 from realikea.eval.runs import eval_overrides
-from realikea.eval.stats import seed_difference, seed_interval
+from realikea.eval.stats import diff_interval, seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
 from realikea.reports import fidelity_ablation
 from realikea.tasks.contacts import STRATEGIES
@@ -246,6 +246,27 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     # success differs by nothing: the same table of success says so
     same = fidelity_ablation.difference_lines(*args, ["high"])
     assert same[-1].endswith("| not significant |")
+
+
+def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested():
+    def run(collision, hook):
+        entry = {"fail": 0.0, "partial": 0.0, "success": 1.0, "episodes": 50,
+                 "strategies": {"hook": hook, "pinch": 1.0 - hook}}  # fmt: skip
+        return {"collision": collision, "gripper": "franka_hand", "contact": "elliptic",
+                "iterations": 1500, "switch": 900, "resistance": "high",
+                "category": "two_point", "eval": {"modes": {"high": entry}}}  # fmt: skip
+
+    cells, _ = fidelity_ablation.aggregate([run("coacd", 0.36), run("hull", 0.02)])
+    coacd = cells["coacd", "high", "two_point"]["high"]
+    assert coacd["strategy_runs"]["hook"] == [(18, 50)] and coacd["strategies"]["hook"] == 0.36
+    args = (cells, ["coacd", "hull"], ["high"], ["two_point"], ["high"])
+    hook = fidelity_ablation.difference_lines(*args, "hook")
+    assert hook[0] == "## Hook rate: CoACD − hull"
+    lo, hi = diff_interval(18, 50, 1, 50)  # one seed a side: Newcombe's interval
+    assert hook[-1] == (
+        f"| coacd | high | two_point | high | 0.36 | 0.02 | +0.34 [{lo:+.2f}, {hi:+.2f}] "
+        "| significant |"
+    )
 
 
 def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path, monkeypatch):

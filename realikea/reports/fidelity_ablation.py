@@ -178,10 +178,19 @@ def aggregate(runs: list[dict]) -> tuple[dict, dict]:
                     f: float(np.mean([k / n for k, n in runs]))
                     for f, runs in out["failure_runs"].items()
                 }
-            strategies = [e["strategies"] for e in entries if e.get("strategies")]
-            if strategies:
+            classified = [e for e in entries if e.get("strategies")]
+            if classified:
+                # (episodes with that strategy label, episodes) per seed, as for failure modes
+                out["strategy_runs"] = {
+                    s: [
+                        (count(e["strategies"].get(s, 0.0), e["episodes"]), e["episodes"])
+                        for e in classified
+                    ]
+                    for s in STRATEGY_COLOURS
+                }
                 out["strategies"] = {
-                    s: float(np.mean([x.get(s, 0.0) for x in strategies])) for s in STRATEGY_COLOURS
+                    s: float(np.mean([k / n for k, n in runs]))
+                    for s, runs in out["strategy_runs"].items()
                 }
             for stat in CONTACT_STATS:
                 values = [e.get("contacts", {}).get(stat) for e in entries]
@@ -275,19 +284,21 @@ def interval_lines(
 
 
 def measured_runs(entry: dict, measure: str) -> list[tuple[int, int]] | None:
-    """(count, episodes) per seed of `measure` in one cell and mode: "success" or a failure
-    mode (None when the cell's evaluations carry no failure modes)."""
+    """(count, episodes) per seed of `measure` in one cell and mode: "success", a failure mode
+    or a strategy label (None when the cell's evaluations carry no such labels)."""
     if measure == "success":
         return entry["runs"]
-    return entry.get("failure_runs", {}).get(measure)
+    if measure in FAILURE_MODES:
+        return entry.get("failure_runs", {}).get(measure)
+    return entry.get("strategy_runs", {}).get(measure)
 
 
 def difference_lines(
     cells: dict, variants, resistances, categories, modes, measure: str = "success"
 ) -> list[str]:
-    """CoACD minus hull (of the same preset) of `measure` (success, or the rate of a failure
-    mode) per training resistance, category and evaluation mode, with its interval and whether
-    it excludes zero."""
+    """CoACD minus hull (of the same preset) of `measure` (success, the rate of a failure mode
+    or of a strategy label) per training resistance, category and evaluation mode, with its
+    interval and whether it excludes zero."""
     pairs = [(v, "hull" + v[5:]) for v in variants if v.startswith("coacd")]
     title = "CoACD − hull" if measure == "success" else f"{measure.capitalize()} rate: CoACD − hull"
     lines = [
@@ -713,6 +724,8 @@ def report(roots: list[Path], out: Path) -> Path:
         *failure_lines(cells, variants, resistances, categories),
         "",
         *difference_lines(cells, variants, resistances, categories, ["high"], "slip"),
+        "",
+        *difference_lines(cells, variants, resistances, categories, ["high"], "hook"),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",
