@@ -159,13 +159,14 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
 
 
 def fake_coacd_run(run, target):
-    """A copy of the tiny run relabelled as CoACD, with pinch/hook strategies and successes."""
+    """A copy of the tiny run relabelled as CoACD, with pinch/hook strategies and successes
+    (4 episodes a mode, so every rate below is a count of them, as in a real eval.json)."""
     shutil.copytree(run, target)
     config = target / ".hydra" / "config.yaml"
     config.write_text(config.read_text().replace("source: hull", "source: coacd"))
     report = json.loads((target / "eval.json").read_text())
     for entry in report["modes"].values():
-        entry.update(fail=0.25, partial=0.25, success=0.5)
+        entry.update(episodes=4, fail=0.25, partial=0.25, success=0.5)
         entry["strategies"] = {"hook": 0.5, "lever": 0.0, "pinch": 0.25, "none": 0.25}
         entry["success_strategies"] = {"hook": 0.8, "lever": 0.0, "pinch": 0.2, "none": 0.0}
         entry["contacts"]["friction_share"] = 0.3
@@ -194,9 +195,9 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     assert script().main([str(root), "--out", str(out)]) == 0
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
-    # one seed a cell: Wilson's interval on 1 of 2 episodes, Newcombe's on the difference
+    # one seed a cell: Wilson's interval on 2 of 4 episodes, Newcombe's on the difference
     # the tiny run's training success never reached 50 %: 0 seeds learned
-    assert "| coacd | smooth | two_point | 1 | 0 | 0.50 [0.09, 0.91] | 0.50 [0.09, 0.91] |" in text
+    assert "| coacd | smooth | two_point | 1 | 0 | 0.50 [0.15, 0.85] | 0.50 [0.15, 0.85] |" in text
     assert "| coacd | smooth | two_point | high | 0.50 | 0.00 | +0.50 [" in text
     assert "| not significant |" in text and "evaluation split test" in text
     assert "| coacd | two_point | 0.25 | 0.50 | 0.00 | 0.00 | 0.00 | 0.25 | 0.30 |" in text
