@@ -205,6 +205,7 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     # per run: success under the three modes, strategies under smooth, never 50 % in training
     per_run = "| coacd_smooth_two_point_franka_hand_s0 | 0.50 | 0.50 | 0.50 | 0.25 | 0.50 |"
     assert per_run + " 0.00 | – | – | 0.25 | 0.80 | – |" in text  # no front labels in the fake
+    assert "| train S | change | train P | change |" in text  # 2 iterations: nothing before
     assert "Typical: `hook`, an episode ending in success ([MP4](" in text
     assert "eval_hook_success.mp4)" in text and "eval_hook_success.png)" in text
     for name in ("success", "outcomes", "strategies", "learning_curves"):
@@ -329,6 +330,18 @@ def test_iterations_to_success_is_the_first_window_reaching_the_level():
     never = {"metrics": {"/episode/success": (its, [0.4] * 100)}}
     assert module.iterations_to_success(never) is None
     assert module.iterations_to_success({"metrics": {}}) is None
+
+
+def test_the_plateau_check_compares_the_last_window_with_the_one_before():
+    its = list(range(300))
+    climbing = {"metrics": {"/episode/success": (its, [0.0] * 100 + [0.2] * 100 + [0.5] * 100)}}
+    mean, change = fidelity_ablation.last_windows(climbing, "/episode/success", window=100)
+    assert mean == pytest.approx(0.5) and change == pytest.approx(0.3)  # still climbing
+    flat = {"metrics": {"/episode/success": (its, [0.9] * 300)}}
+    assert fidelity_ablation.last_windows(flat, "/episode/success") == pytest.approx((0.9, 0.0))
+    short = {"metrics": {"/episode/success": ([0, 1], [0.0, 1.0])}}
+    assert fidelity_ablation.last_windows(short, "/episode/success") == (0.5, None)  # no before
+    assert fidelity_ablation.last_windows({"metrics": {}}, "/episode/partial") == (None, None)
 
 
 @pytest.mark.slow

@@ -30,6 +30,9 @@ DEFAULT_OUT = "experiments/fidelity_ablation"
 MODES = ("smooth", "normal", "high")
 OUTCOMES = ("fail", "partial", "success")
 SUCCESS_WINDOW = 20  # iterations averaged for "training success reached 50 %" and the curves
+# iterations per window of the plateau check: the last ones against the ones before (issue 16
+# asks for iterations "enough that training success has plateaued")
+PLATEAU_WINDOW = 100
 SEED_STYLES = ("-", "--", ":", "-.")
 OUTCOME_COLOURS = {"fail": "tab:red", "partial": "tab:orange", "success": "tab:green"}
 STRATEGY_COLOURS = {
@@ -130,6 +133,21 @@ def iterations_to_success(
         if values[chosen].mean() >= level:
             return int(start)
     return None
+
+
+def last_windows(
+    run: dict, tag: str, window: int = PLATEAU_WINDOW
+) -> tuple[float | None, float | None]:
+    """The mean of a training metric over the last `window` iterations and its change from the
+    `window` before them (None where a window has no iteration): a plateau changes little."""
+    its, values = (np.asarray(x) for x in run["metrics"].get(tag, ([], [])))
+    if its.size == 0:
+        return None, None
+    end = its.max() + 1
+    last = values[its >= end - window]
+    before = values[(its >= end - 2 * window) & (its < end - window)]
+    mean = float(last.mean())
+    return mean, (mean - float(before.mean())) if before.size else None
 
 
 def variant(run: dict, presets: int, schedules: int = 1) -> str:
@@ -420,14 +438,16 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         "resistance; `form closure of S`: the share of its successful episodes there labelled "
         "`hook` or `lever`; `to 50 %`: the first iteration from which training success, "
         "averaged over the next 20 iterations, reaches 50 % (how soon the run found a way to "
-        "open).",
+        "open); `train S` and `train P`: training success and partial openings over the last "
+        f"{PLATEAU_WINDOW} iterations, with their change from the {PLATEAU_WINDOW} before "
+        "(a run still climbing has not plateaued).",
         "",
         "| run | "
         + " | ".join(f"{m} S" for m in MODES)
         + " | "
         + " | ".join(STRATEGY_COLOURS)
-        + " | form closure of S | to 50 % |",
-        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 2),
+        + " | form closure of S | to 50 % | train S | change | train P | change |",
+        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_COLOURS) + 6),
     ]
     for run in runs:
         modes = run["eval"]["modes"]
@@ -438,6 +458,9 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         closure = _fmt(won["hook"] + won["lever"]) if won and trained["success"] > 0 else "–"
         reached = iterations_to_success(run)
         row = [*success, *fractions, closure, "–" if reached is None else str(reached)]
+        for tag in ("/episode/success", "/episode/partial"):
+            mean, change = last_windows(run, tag)
+            row += [_fmt(mean), "–" if change is None else f"{change:+.2f}"]
         lines.append(f"| {_rel(run['dir'], root)} | " + " | ".join(row) + " |")
     return lines
 
