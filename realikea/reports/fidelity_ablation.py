@@ -43,6 +43,12 @@ STRATEGY_COLOURS = {
     "front_hook": "tab:pink",
     "none": "0.75",
 }
+# per-episode labels an eval.json counts as rates: (its field, the labels, the cell key their
+# per-seed (count, episodes) go to)
+LABEL_FIELDS = (
+    ("failure_modes", FAILURE_MODES, "failure_runs"),
+    ("strategies", tuple(STRATEGY_COLOURS), "strategy_runs"),
+)
 
 
 def unfinished_runs(roots: list[Path]) -> list[Path]:
@@ -182,34 +188,21 @@ def aggregate(runs: list[dict]) -> tuple[dict, dict]:
             out["seeds"] = len(entries)
             # (successes, episodes) per seed: what the intervals are computed from
             out["runs"] = [(count(e["success"], e["episodes"]), e["episodes"]) for e in entries]
-            labelled = [e for e in entries if e.get("failure_modes")]
-            if labelled:
-                # (episodes failed that way, episodes) per seed, as "runs" for the success
-                out["failure_runs"] = {
-                    f: [
-                        (count(e["failure_modes"].get(f, 0.0), e["episodes"]), e["episodes"])
-                        for e in labelled
-                    ]
-                    for f in FAILURE_MODES
-                }
-                out["failure_modes"] = {
-                    f: float(np.mean([k / n for k, n in runs]))
-                    for f, runs in out["failure_runs"].items()
-                }
-            classified = [e for e in entries if e.get("strategies")]
-            if classified:
-                # (episodes with that strategy label, episodes) per seed, as for failure modes
-                out["strategy_runs"] = {
-                    s: [
-                        (count(e["strategies"].get(s, 0.0), e["episodes"]), e["episodes"])
-                        for e in classified
-                    ]
-                    for s in STRATEGY_COLOURS
-                }
-                out["strategies"] = {
-                    s: float(np.mean([k / n for k, n in runs]))
-                    for s, runs in out["strategy_runs"].items()
-                }
+            # (episodes with that label, episodes) per seed, as "runs" for the success
+            for field, labels, counts in LABEL_FIELDS:
+                labelled = [e for e in entries if e.get(field)]
+                if labelled:
+                    out[counts] = {
+                        label: [
+                            (count(e[field].get(label, 0.0), e["episodes"]), e["episodes"])
+                            for e in labelled
+                        ]
+                        for label in labels
+                    }
+                    out[field] = {
+                        label: float(np.mean([k / n for k, n in runs]))
+                        for label, runs in out[counts].items()
+                    }
             for stat in CONTACT_STATS:
                 values = [e.get("contacts", {}).get(stat) for e in entries]
                 values = [v for v in values if v is not None]
