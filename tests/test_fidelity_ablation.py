@@ -212,6 +212,50 @@ def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
         assert (out / f"{name}.png").stat().st_size > 5_000
 
 
+def fake_phase_map(folder, coacd_success, hull_success):
+    """A phase_map.py output directory of one cell (70 N, mu 0.3) for a CoACD and a hull policy."""
+    folder.mkdir()
+    cell = {"category": "two_point", "cone": "elliptic", "force": 70.0, "friction": 0.3}
+    cell |= {"resistance": "high", "split": "test", "episodes": 20}
+    records = [
+        cell
+        | {
+            "policy": "coacd",
+            "success": coacd_success,
+            "command": "realikea eval policy=checkpoint policy.path=grid/coacd_s0/model_1300.pt",
+        },
+        cell | {"policy": "hull", "success": hull_success},
+    ]
+    (folder / "cells.jsonl").write_text("\n".join(json.dumps(r) for r in records) + "\n")
+    (folder / "phase_map.md").write_text("# Friction-trap phase map\n")
+    (folder / "phase_map.png").write_bytes(b"")
+
+
+def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_path):
+    fake_phase_map(tmp_path / "paper_map", coacd_success=0.5, hull_success=0.05)
+    out = tmp_path / "report"
+    maps = ["--phase-maps", str(tmp_path / "paper_map")]
+    assert script().main([str(sweep), "--out", str(out), *maps]) == 0
+    text = (out / "report.md").read_text()
+    assert "## Friction-trap phase maps" in text and "### ../paper_map" in text
+    assert "Policies coacd, hull; elliptic cones; 2 cells of 20 episodes, test parts" in text
+    assert "![paper_map](../paper_map/phase_map.png)" in text
+    assert "- coacd: `grid/coacd_s0/model_1300.pt`" in text
+    # 10 of 20 against 1 of 20: Newcombe's interval excludes zero, so the cell is bold
+    assert "| 70 N | **+0.45 [" in text
+
+
+def test_a_phase_map_directory_without_its_figure_is_refused_before_anything_is_written(
+    sweep, tmp_path
+):
+    fake_phase_map(tmp_path / "map", coacd_success=0.5, hull_success=0.5)
+    (tmp_path / "map" / "phase_map.png").unlink()
+    out = tmp_path / "report"
+    with pytest.raises(SystemExit, match="not a phase map.*phase_map.png"):
+        script().main([str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")])
+    assert not out.exists()
+
+
 def test_the_interval_table_counts_the_seeds_that_learned():
     its = list(range(100))
     learned = {"metrics": {"/episode/success": (its, [0.0] * 50 + [0.9] * 50)}}

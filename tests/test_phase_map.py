@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from realikea.errors import RealIkeaError
+from realikea.files import WORKSPACE
 from realikea.reports.phase_map import (
     boundary_force,
     difference_table,
@@ -43,6 +44,9 @@ def test_policies_are_scripted_names_or_checkpoints(tmp_path):
         map_policy("teleop")
     with pytest.raises(RealIkeaError, match="not found"):
         map_policy(f"coacd={tmp_path / 'missing.pt'}")
+    kept = "experiments/fidelity_ablation/grid/paper_coacd_high_two_point_s0/model_1300.pt"
+    # a checkpoint in the repository is named from its root, so cells.jsonl runs in any clone
+    assert map_policy(f"coacd={WORKSPACE / kept}").overrides[1] == f"policy.path={kept}"
 
 
 def test_the_boundary_is_where_two_pads_carry_the_pull():

@@ -2,6 +2,7 @@
 `eval.json` and `metrics.csv`) under the given roots, aggregated into report.md and plots.
 
 python experiments/fidelity_ablation/report.py [ROOT ...] [--out DIR] [--record-videos]
+    [--phase-maps MAP ...]
 
 ROOT defaults to outputs/fidelity_ablation (all sweeps in it); runs are found at any depth.
 Cells are (collision source, training resistance, category) per gripper/contact preset;
@@ -10,7 +11,11 @@ success.png, outcomes.png, strategies.png and learning_curves.png. `--record-vid
 `realikea eval ... video=true episodes=N` once per run not yet recorded (under its training
 resistance, N = --video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames)
 of each strategy label into RUN/videos/; the report shows every
-RUN/videos/*.png strip it finds and names the MP4 beside it.
+RUN/videos/*.png strip it finds and names the MP4 beside it. Each `--phase-maps` directory
+(written by phase_map.py) adds its heat maps and CoACD − hull differences. Issue 16's report:
+
+    python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/grid \
+        --phase-maps experiments/fidelity_ablation/phase_map{,_paper}
 """
 
 from __future__ import annotations
@@ -31,10 +36,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--video-episodes", type=int, default=8, help="episodes per run for --record-videos"
     )
+    parser.add_argument(
+        "--phase-maps", nargs="*", type=Path, default=[], help="phase_map.py output directories"
+    )
     args = parser.parse_args(argv)
     if args.record_videos:
         record_videos(find_runs(args.roots), args.video_episodes)
-    path = report(args.roots, args.out)
+    path = report(args.roots, args.out, args.phase_maps)
     print(f"report: {path}")
     return 0
 

@@ -19,7 +19,9 @@ from realikea.eval.commands import run_eval
 from realikea.eval.stats import count, diff_interval, seed_difference, seed_interval, wilson
 from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
+from realikea.files import atomic_write_text
 from realikea.reports.metrics import read_metrics
+from realikea.reports.phase_map import difference_table, read_cells
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
 
@@ -697,13 +699,59 @@ def frame_lines(runs: list[dict], out: Path) -> list[str]:
     return lines
 
 
-def report(roots: list[Path], out: Path) -> Path:
+def phase_map_lines(maps: list[Path], out: Path) -> list[str]:
+    """Markdown: each phase map (a directory `phase_map.py` wrote: cells.jsonl, phase_map.md,
+    phase_map.png) with what it maps, its heat maps and its CoACD − hull differences."""
+    missing = [
+        m / name
+        for m in maps
+        for name in ("cells.jsonl", "phase_map.md", "phase_map.png")
+        if not (m / name).is_file()
+    ]
+    if missing:
+        raise SystemExit(
+            f"not a phase map (phase_map.py writes these): {', '.join(map(str, missing))}"
+        )
+    lines = ["## Friction-trap phase maps", ""] if maps else []
+    for folder in maps:
+        cells = read_cells(folder / "cells.jsonl")
+        records = list(cells.values())
+        policies = ", ".join(dict.fromkeys(r["policy"] for r in records))
+        cones = ", ".join(dict.fromkeys(r["cone"] for r in records))
+        episodes = "/".join(map(str, sorted({r["episodes"] for r in records})))
+        splits = "/".join(sorted({r.get("split", "all") for r in records}))
+        resistances = "/".join(sorted({r["resistance"] for r in records}))
+        table = _rel(folder / "phase_map.md", out)
+        checkpoints = {
+            r["policy"]: token.removeprefix("policy.path=")
+            for r in records
+            for token in r.get("command", "").split()
+            if token.startswith("policy.path=")
+        }
+        lines += [
+            f"### {_rel(folder, out)}",
+            "",
+            f"Policies {policies}; {cones} cones; {len(records)} cells of {episodes} episodes, "
+            f"{splits} parts, resistance {resistances}. "
+            f"Every cell's success and slip ratio: [phase_map.md]({table}).",
+            "",
+            *[f"- {policy}: `{path}`" for policy, path in checkpoints.items()],
+            "",
+            f"![{folder.name}]({_rel(folder / 'phase_map.png', out)})",
+            "",
+            *difference_table(cells, "coacd", "hull"),
+        ]
+    return lines
+
+
+def report(roots: list[Path], out: Path, phase_maps: list[Path] = ()) -> Path:
     runs = find_runs(roots)
     unfinished = unfinished_runs(roots)
     for run in unfinished:
         print(f"not in the report (no eval.json yet): {run}", file=sys.stderr)
     if not runs:
         raise SystemExit(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
+    maps = phase_map_lines(list(phase_maps), out)  # checked before anything is written
     cells, by_cell = aggregate(runs)
     variants = ordered({k[0] for k in cells}, ("coacd", "hull"))
     resistances = ordered({k[1] for k in cells}, MODES)
@@ -764,7 +812,7 @@ def report(roots: list[Path], out: Path) -> Path:
             "",
             "Not counted (no eval.json yet): " + ", ".join(_rel(r, root) for r in unfinished),
         ]
-    lines += ["", *frame_lines(runs, out)]
+    lines += ["", *maps, "", *frame_lines(runs, out)]
     path = out / "report.md"
-    path.write_text("\n".join(lines) + "\n")
+    atomic_write_text(path, "\n".join(lines) + "\n")
     return path

@@ -23,6 +23,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval
+from realikea.files import shown_path
 from realikea.policies.registry import POLICIES
 
 # the axes' default values; their sources are in experiments/fidelity_ablation/phase_map.md
@@ -48,7 +49,10 @@ def map_policy(spec: str) -> MapPolicy:
     if sep:
         if not Path(path).is_file():
             raise RealIkeaError(f"policy {spec!r}: checkpoint {path} not found")
-        return MapPolicy(label, ("policy=checkpoint", f"policy.path={Path(path).resolve()}"))
+        # relative to the repository when inside it (policy.path's base), so cells.jsonl's
+        # commands run from any checkout
+        shown = shown_path(Path(path).resolve())
+        return MapPolicy(label, ("policy=checkpoint", f"policy.path={shown}"))
     if spec not in POLICIES or spec in ("checkpoint", "teleop", "replay"):
         scripted = [p for p in POLICIES if p not in ("checkpoint", "teleop", "replay")]
         raise RealIkeaError(
