@@ -102,7 +102,8 @@ def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs():
     module = grid()
     found = [(it, Path(f"model_{it}.pt")) for it in (0, 50, 100, 150, 200, 1499)]
     paper = module.planned(_args(seeds=[0, 1], paper=True))
-    assert [r.swept for r in paper] == [r.seed == 0 for r in paper] and paper[0].swept
+    swept = [r.seed == 0 and (r.category, r.resistance) == ("two_point", "high") for r in paper]
+    assert [r.swept for r in paper] == swept and paper[0].swept and sum(swept) == 2  # a source
     kept = [p.name for p in module.kept_checkpoints(paper[0], found)]
     assert kept == ["model_0.pt", "model_100.pt", "model_200.pt", "model_1499.pt"]
     assert module.kept_checkpoints(paper[-1], found) == [Path("model_1499.pt")]  # seed 1

@@ -14,8 +14,8 @@ Each launch's wall time is written to outputs/fidelity_grid/NAME.wall.json as it
 poll), so a launch stopped with the session still counts in the compute table.
 Runs go seed by seed, so every cell has one seed before any has two. NAME is
 <collision>_<resistance>_<category>_s<seed>, with a `paper_` prefix for the paper's schedule.
-Seed 0 of the paper's schedule also keeps its checkpoints every SWEEP_EVERY iterations (slim,
-about 0.2 MB each), so the appendix's checkpoint selection can be rerun from git:
+Seed 0 of the paper's schedule on two-point x high also keeps its checkpoints every SWEEP_EVERY
+iterations (slim, about 0.2 MB each), so the appendix's checkpoint selection can be rerun from git:
 `realikea eval sweep experiments/fidelity_ablation/grid/paper_<collision>_high_two_point_s0`.
 """
 
@@ -50,6 +50,7 @@ ITERATIONS = 900  # fidelity_grid.yaml's agent.max_iterations
 PAPER = {"dr.switch_iteration": 900, "agent.max_iterations": 1500}  # the paper's schedule
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
 SWEEP_EVERY = 100  # iterations between the checkpoints a swept run keeps (1,500 its: 16 kept)
+SWEPT_CELL = ("two_point", "high")  # (category, resistance) of the swept runs
 
 
 @dataclass(frozen=True)
@@ -69,8 +70,10 @@ class GridRun:
 
     @property
     def swept(self) -> bool:
-        """Whether the run keeps checkpoints for the sweep: one paper-scale run per source."""
-        return self.paper and self.seed == 0
+        """Whether the run keeps checkpoints for the sweep: one paper-scale run per source, of
+        the issue's paper cell (two-point x high); other cells at the paper's schedule keep
+        their last checkpoint only."""
+        return self.paper and self.seed == 0 and (self.category, self.resistance) == SWEPT_CELL
 
     @property
     def iterations(self) -> int:
