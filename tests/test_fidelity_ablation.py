@@ -245,13 +245,17 @@ def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_p
     assert "| 70 N | **+0.45 [" in text
 
 
-def test_a_phase_map_directory_without_its_figure_is_refused_before_anything_is_written(
+def test_a_phase_map_without_its_figure_or_cells_is_refused_before_anything_is_written(
     sweep, tmp_path
 ):
     fake_phase_map(tmp_path / "map", coacd_success=0.5, hull_success=0.5)
     (tmp_path / "map" / "phase_map.png").unlink()
     out = tmp_path / "report"
     with pytest.raises(SystemExit, match="not a phase map.*phase_map.png"):
+        script().main([str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")])
+    (tmp_path / "map" / "phase_map.png").write_bytes(b"")
+    (tmp_path / "map" / "cells.jsonl").write_text("")
+    with pytest.raises(SystemExit, match="phase map without cells"):
         script().main([str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")])
     assert not out.exists()
 

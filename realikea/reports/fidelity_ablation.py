@@ -9,6 +9,7 @@ import json
 import os
 import sys
 from collections import defaultdict
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -699,7 +700,7 @@ def frame_lines(runs: list[dict], out: Path) -> list[str]:
     return lines
 
 
-def phase_map_lines(maps: list[Path], out: Path) -> list[str]:
+def phase_map_lines(maps: Sequence[Path], out: Path) -> list[str]:
     """Markdown: each phase map (a directory `phase_map.py` wrote: cells.jsonl, phase_map.md,
     phase_map.png) with what it maps, its heat maps and its CoACD − hull differences."""
     missing = [
@@ -712,9 +713,12 @@ def phase_map_lines(maps: list[Path], out: Path) -> list[str]:
         raise SystemExit(
             f"not a phase map (phase_map.py writes these): {', '.join(map(str, missing))}"
         )
+    mapped = {folder: read_cells(folder / "cells.jsonl") for folder in maps}
+    empty = [str(folder / "cells.jsonl") for folder, cells in mapped.items() if not cells]
+    if empty:
+        raise SystemExit(f"phase map without cells: {', '.join(empty)}")
     lines = ["## Friction-trap phase maps", ""] if maps else []
-    for folder in maps:
-        cells = read_cells(folder / "cells.jsonl")
+    for folder, cells in mapped.items():
         records = list(cells.values())
         policies = ", ".join(dict.fromkeys(r["policy"] for r in records))
         cones = ", ".join(dict.fromkeys(r["cone"] for r in records))
@@ -744,14 +748,14 @@ def phase_map_lines(maps: list[Path], out: Path) -> list[str]:
     return lines
 
 
-def report(roots: list[Path], out: Path, phase_maps: list[Path] = ()) -> Path:
+def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Path:
     runs = find_runs(roots)
     unfinished = unfinished_runs(roots)
     for run in unfinished:
         print(f"not in the report (no eval.json yet): {run}", file=sys.stderr)
     if not runs:
         raise SystemExit(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
-    maps = phase_map_lines(list(phase_maps), out)  # checked before anything is written
+    maps = phase_map_lines(phase_maps, out)  # checked before anything is written
     cells, by_cell = aggregate(runs)
     variants = ordered({k[0] for k in cells}, ("coacd", "hull"))
     resistances = ordered({k[1] for k in cells}, MODES)
