@@ -167,3 +167,23 @@ def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
     # a row only the earlier launch wrote at an iteration the later one repeated goes too
     earlier_only = [*lines[:3], "599,/success/knob_drawer,0.1", *lines[3:]]
     assert join_launches(earlier_only) == join_launches(lines)
+
+
+def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path, capsys):
+    path = WORKSPACE / "experiments" / "fidelity_ablation" / "compare_runs.py"
+    spec = importlib.util.spec_from_file_location("compare_runs", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for name, success in (("a", 0.46), ("b", 0.70)):
+        (tmp_path / name).mkdir()
+        modes = {"high": {"success": success, "episodes": 50}}
+        (tmp_path / name / "eval.json").write_text(json.dumps({"modes": modes}))
+    assert module.main([str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    row = capsys.readouterr().out.splitlines()[-1]
+    # 23 of 50 against 35 of 50: Newcombe's interval excludes zero
+    assert (
+        row
+        == "| high | 0.46 [0.33, 0.60] | 0.70 [0.56, 0.81] | -0.24 [-0.41, -0.05] | significant |"
+    )
+    with pytest.raises(SystemExit, match="no eval.json"):
+        module.main([str(tmp_path), str(tmp_path / "b")])
