@@ -111,6 +111,19 @@ def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs():
     assert not grid_run.swept and module.kept_checkpoints(grid_run, found) == [found[-1][1]]
 
 
+def test_a_kept_runs_eval_commands_name_the_checkpoint_git_holds():
+    module = grid()
+    trained = module.WORK / "hull_high_knob_s0" / "model_899.pt"
+    command = f"realikea eval policy=checkpoint policy.path={trained} resistance=high episodes=50"
+    report = {"checkpoint": "model_899.pt", "modes": {"high": {"command": command}}}
+    kept = module.kept_eval(report, module.KEPT / "hull_high_knob_s0")
+    assert kept["modes"]["high"]["command"] == (
+        "realikea eval policy=checkpoint "
+        "policy.path=experiments/fidelity_ablation/grid/hull_high_knob_s0/model_899.pt "
+        "resistance=high episodes=50"
+    )
+
+
 def test_a_launchs_wall_time_is_recorded_while_it_runs(tmp_path, monkeypatch, capsys):
     module = grid()
     monkeypatch.setattr(module, "WORK", tmp_path / "work")

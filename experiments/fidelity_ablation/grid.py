@@ -34,7 +34,7 @@ from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
-from realikea.files import atomic_write_text
+from realikea.files import atomic_write_text, shown_path
 from realikea.policies.checkpoint import slim_checkpoint
 from realikea.reports.metrics import join_launches
 
@@ -123,7 +123,8 @@ def keep(run: GridRun, seconds: list[float]) -> Path:
     staging = target.with_name(target.name + ".partial")
     shutil.rmtree(staging, ignore_errors=True)
     shutil.copytree(source / ".hydra", staging / ".hydra")
-    shutil.copy(source / "eval.json", staging / "eval.json")
+    report = kept_eval(json.loads((source / "eval.json").read_text()), target)
+    atomic_write_text(staging / "eval.json", json.dumps(report, indent=2) + "\n")
     metrics = (source / "metrics.csv").read_text().splitlines()
     atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
     for path in kept_checkpoints(run, checkpoints(source)):
@@ -132,6 +133,18 @@ def keep(run: GridRun, seconds: list[float]) -> Path:
     shutil.rmtree(target, ignore_errors=True)
     staging.rename(target)
     return target
+
+
+def kept_eval(report: dict, target: Path) -> dict:
+    """`report` (an eval.json) with each mode's command naming the checkpoint kept in `target`,
+    relative to the repository, instead of the one in outputs/ that git does not hold."""
+    shown = shown_path(target / report["checkpoint"])
+    for entry in report["modes"].values():
+        entry["command"] = " ".join(
+            f"policy.path={shown}" if token.startswith("policy.path=") else token
+            for token in entry["command"].split(" ")
+        )
+    return report
 
 
 def kept_checkpoints(run: GridRun, found: list[tuple[int, Path]]) -> list[Path]:

@@ -16,6 +16,7 @@ from pathlib import Path
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
+from realikea.files import shown_path
 from realikea.tasks.outcome import OUTCOMES
 
 KINDS = tuple(BASE_KINDS)  # drawer, door, flap
@@ -33,7 +34,7 @@ def cell_overrides(
 ) -> list[str]:
     """`realikea eval` overrides of one cell: test parts, randomized poses, a held-out seed."""
     return [
-        "policy=checkpoint", f"policy.path={Path(checkpoint).resolve()}",
+        "policy=checkpoint", f"policy.path={shown_path(Path(checkpoint).resolve())}",
         f"asset={category}", f"asset.kind={kind}", f"resistance={mode}", "asset.split=test",
         "dr=randomized", f"episodes={episodes}", f"env.seed={seed}", *extra,
     ]  # fmt: skip
