@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from realikea.config import load_config
@@ -18,14 +19,18 @@ from realikea.files import WORKSPACE
 from realikea.reports.metrics import join_launches
 
 
-def grid():
-    """experiments/fidelity_ablation/grid.py as a module."""
-    path = WORKSPACE / "experiments" / "fidelity_ablation" / "grid.py"
-    spec = importlib.util.spec_from_file_location("fidelity_grid", path)
+def script(name: str):
+    """experiments/fidelity_ablation/NAME.py as a module."""
+    path = WORKSPACE / "experiments" / "fidelity_ablation" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"fidelity_{name}", path)
     module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up
+    sys.modules[spec.name] = module  # dataclasses look their module up
     spec.loader.exec_module(module)
     return module
+
+
+def grid():
+    return script("grid")
 
 
 def _args(**kw) -> argparse.Namespace:
@@ -183,10 +188,7 @@ def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
 
 
 def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path, capsys):
-    path = WORKSPACE / "experiments" / "fidelity_ablation" / "compare_runs.py"
-    spec = importlib.util.spec_from_file_location("compare_runs", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = script("compare_runs")
     for name, success in (("a", 0.46), ("b", 0.70)):
         (tmp_path / name).mkdir()
         modes = {"high": {"success": success, "episodes": 50}}
@@ -200,3 +202,27 @@ def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path, capsys):
     )
     with pytest.raises(SystemExit, match="no eval.json"):
         module.main([str(tmp_path), str(tmp_path / "b")])
+
+
+def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs_draw(tmp_path):
+    module = script("squeeze")
+
+    class Fixed:
+        def reset(self, env_ids, facts):
+            pass
+
+        def act(self, obs):
+            return np.array([[0.0, 0.0, 0.0, 0.0, -0.5], [0.0, 0.0, 0.0, 0.0, 0.3]])
+
+    squeezed = module.FullSqueeze(Fixed())
+    action = squeezed.act(np.zeros((2, 3)))
+    assert action[:, 4].tolist() == [-1.0, 0.3] and squeezed.closing == [-0.5]
+    with pytest.raises(RealIkeaError, match="no eval.json"):
+        module.run_overrides(tmp_path, "high", 50)
+    command = "realikea eval policy=checkpoint policy.path=x.pt resistance=smooth episodes=50"
+    (tmp_path / "eval.json").write_text(json.dumps({"modes": {"smooth": {"command": command}}}))
+    with pytest.raises(RealIkeaError, match="not high"):
+        module.run_overrides(tmp_path, "high", 50)
+    assert module.run_overrides(tmp_path, "smooth", 8) == [
+        "policy=checkpoint", "policy.path=x.pt", "resistance=smooth", "episodes=8"
+    ]  # fmt: skip
