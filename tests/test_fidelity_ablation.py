@@ -319,6 +319,30 @@ def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(
     )
 
 
+def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
+    def run(collision, hook, lever, seed):
+        shares = {"hook": hook, "lever": lever, "pinch": 1.0 - hook - lever}
+        entry = {"fail": 0.0, "partial": 0.0, "success": 1.0, "episodes": 50, "strategies": shares}
+        return {"collision": collision, "gripper": "franka_hand", "contact": "elliptic",
+                "iterations": 900, "switch": 300, "resistance": "normal", "seed": seed,
+                "category": "knob", "eval": {"modes": {"high": entry}}}  # fmt: skip
+
+    runs = [run("coacd", 0.0, 0.56, 0), run("hull", 0.04, 0.10, 0)]
+    cells, _ = fidelity_ablation.aggregate(runs)
+    hull = cells["hull", "normal", "knob"]["high"]
+    assert fidelity_ablation.measured_runs(hull, "form closure") == [(7, 50)]
+    args = (cells, ["coacd", "hull"], ["normal"], ["knob"], ["high"])
+    closure = fidelity_ablation.difference_lines(*args, "form closure")
+    assert closure[0] == "## Form closure rate: CoACD − hull"
+    lo, hi = diff_interval(28, 50, 7, 50)
+    assert closure[-1] == (
+        f"| coacd | normal | knob | high | 0.56 | 0.14 | +0.42 [{lo:+.2f}, {hi:+.2f}] "
+        "| significant |"
+    )
+    # a cell evaluated before strategy labels existed has no form-closure rate
+    assert fidelity_ablation.measured_runs({"runs": [(50, 50)]}, "form closure") is None
+
+
 def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path, monkeypatch):
     run_dir = tmp_path / "hull_high_two_point_s0"
     run_dir.mkdir()

@@ -52,6 +52,8 @@ LABEL_FIELDS = (
     ("failure_modes", FAILURE_MODES, "failure_runs"),
     ("strategies", tuple(STRATEGY_COLOURS), "strategy_runs"),
 )
+# the paper's form closure: a hook on a bar or lip, a lever on a knob (realikea/tasks/contacts.py)
+FORM_CLOSURE = ("hook", "lever")
 
 
 def unfinished_runs(roots: list[Path]) -> list[Path]:
@@ -298,13 +300,20 @@ def interval_lines(
 
 
 def measured_runs(entry: dict, measure: str) -> list[tuple[int, int]] | None:
-    """(count, episodes) per seed of `measure` in one cell and mode: "success", a failure mode
-    or a strategy label (None when the cell's evaluations carry no such labels)."""
+    """(count, episodes) per seed of `measure` in one cell and mode: "success", a failure mode,
+    a strategy label or "form closure" (hook or lever; None when the cell's evaluations carry
+    no such labels)."""
     if measure == "success":
         return entry["runs"]
     if measure in FAILURE_MODES:
         return entry.get("failure_runs", {}).get(measure)
-    return entry.get("strategy_runs", {}).get(measure)
+    strategy_runs = entry.get("strategy_runs", {})
+    if measure == "form closure":  # the labels are exclusive per episode: their counts add
+        if not all(label in strategy_runs for label in FORM_CLOSURE):
+            return None
+        per_seed = zip(*(strategy_runs[label] for label in FORM_CLOSURE), strict=True)
+        return [(sum(k for k, _ in seed), seed[0][1]) for seed in per_seed]
+    return strategy_runs.get(measure)
 
 
 def difference_lines(
@@ -794,6 +803,8 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
         *difference_lines(cells, variants, resistances, categories, ["high"], "slip"),
         "",
         *difference_lines(cells, variants, resistances, categories, ["high"], "hook"),
+        "",
+        *difference_lines(cells, variants, resistances, categories, ["high"], "form closure"),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",
