@@ -320,14 +320,14 @@ def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(
 
 
 def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
-    def run(collision, hook, lever, seed):
+    def run(collision, hook, lever):
         shares = {"hook": hook, "lever": lever, "pinch": 1.0 - hook - lever}
         entry = {"fail": 0.0, "partial": 0.0, "success": 1.0, "episodes": 50, "strategies": shares}
         return {"collision": collision, "gripper": "franka_hand", "contact": "elliptic",
-                "iterations": 900, "switch": 300, "resistance": "normal", "seed": seed,
+                "iterations": 900, "switch": 300, "resistance": "normal",
                 "category": "knob", "eval": {"modes": {"high": entry}}}  # fmt: skip
 
-    runs = [run("coacd", 0.0, 0.56, 0), run("hull", 0.04, 0.10, 0)]
+    runs = [run("coacd", 0.0, 0.56), run("hull", 0.04, 0.10)]
     cells, _ = fidelity_ablation.aggregate(runs)
     hull = cells["hull", "normal", "knob"]["high"]
     assert fidelity_ablation.measured_runs(hull, "form closure") == [(7, 50)]
