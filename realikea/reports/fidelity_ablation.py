@@ -301,8 +301,8 @@ def interval_lines(
 
 def measured_runs(entry: dict, measure: str) -> list[tuple[int, int]] | None:
     """(count, episodes) per seed of `measure` in one cell and mode: "success", a failure mode,
-    a strategy label or "form closure" (hook or lever; None when the cell's evaluations carry
-    no such labels)."""
+    a strategy label or "form closure" (hook or lever). None when the cell's evaluations carry
+    no such labels."""
     if measure == "success":
         return entry["runs"]
     if measure in FAILURE_MODES:
