@@ -460,7 +460,8 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         trained = modes.get(run["resistance"]) or {}
         fractions = [_fmt((trained.get("strategies") or {}).get(s)) for s in STRATEGY_COLOURS]
         won = trained.get("success_strategies")
-        closure = _fmt(won["hook"] + won["lever"]) if won and trained["success"] > 0 else "–"
+        has_wins = won and trained["success"] > 0
+        closure = _fmt(sum(won[label] for label in FORM_CLOSURE)) if has_wins else "–"
         reached = iterations_to_success(run)
         row = [*success, *fractions, closure, "–" if reached is None else str(reached)]
         for tag in ("/episode/success", "/episode/partial"):
