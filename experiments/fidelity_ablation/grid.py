@@ -218,7 +218,7 @@ def run_all(runs: list[GridRun], jobs: int) -> int:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     for axis, values in AXES.items():
         parser.add_argument(f"--{axis}", nargs="+", default=list(values))
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])

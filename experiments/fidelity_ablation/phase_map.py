@@ -68,7 +68,7 @@ def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) ->
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--policies", nargs="+", default=["heuristic_pull", "grasp_sampler"])
     parser.add_argument("--categories", nargs="+", default=["knob", "finger_pull", "two_point"])
     parser.add_argument("--forces", nargs="+", type=float, default=list(FORCES))

@@ -29,7 +29,7 @@ from realikea.reports.fidelity_ablation import DEFAULT_OUT, find_runs, record_vi
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("roots", nargs="*", type=Path, default=[Path("outputs/fidelity_ablation")])
     parser.add_argument("--out", type=Path, default=repo_path(DEFAULT_OUT), help="report directory")
     parser.add_argument("--record-videos", action="store_true")

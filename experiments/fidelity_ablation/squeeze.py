@@ -89,7 +89,7 @@ def table(rows: dict[str, dict]) -> list[str]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("run", type=Path, help="a kept run (with eval.json and its checkpoint)")
     parser.add_argument("--resistance", default="high")
     parser.add_argument("--episodes", type=int, default=50)
