@@ -15,7 +15,7 @@ RUN/videos/*.png strip it finds and names the MP4 beside it. Each `--phase-maps`
 (written by phase_map.py) adds its heat maps and CoACD − hull differences. Issue 16's report:
 
     python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/grid \
-        --phase-maps experiments/fidelity_ablation/phase_map{,_paper,_paper_s1}
+        --phase-maps experiments/fidelity_ablation/phase_map{,_paper,_paper_s1,_paper_s2}
 """
 
 from __future__ import annotations
