@@ -39,7 +39,7 @@ def time_to_target(series, tag: str, target: float, window: int):
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("name")
     parser.add_argument("--target", type=float, default=0.8)
     parser.add_argument("--tag", default="/episode/success")

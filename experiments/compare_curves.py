@@ -39,7 +39,7 @@ def running_mean(values: list[float], window: int = WINDOW) -> np.ndarray:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="+", type=labelled_run, metavar="LABEL=RUN_DIR")
     parser.add_argument("--out", type=Path, required=True, help="PNG to write")
     parser.add_argument("--switch", type=int, help="iteration of the switch to randomized poses")

@@ -20,7 +20,7 @@ from realikea.reports.metrics import read_metrics  # noqa: E402
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("run_dir", type=Path)
     parser.add_argument("--out", type=Path, help="PNG (default: RUN_DIR/learning_curve.png)")
     args = parser.parse_args()

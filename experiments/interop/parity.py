@@ -521,7 +521,7 @@ def sample_context() -> tuple[WorkflowSettings, Path, Catalog, list[Configuratio
 
 def main(argv=None) -> int:
     """Run the sample and write the report."""
-    args = parse_arguments(__doc__.splitlines()[0], DEFAULT_OUT, argv)
+    args = parse_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, catalog, sample = sample_context()
     probed = [

@@ -168,7 +168,7 @@ probe of report.md), SAPIEN's GPU PhysX.
 def main(argv=None) -> int:
     """Build and export the sample, pull it in both simulators and write the report."""
     warnings.filterwarnings("ignore", module="sapien")
-    args = parity.parse_arguments(__doc__.splitlines()[0], DEFAULT_OUT, argv)
+    args = parity.parse_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, _, sample = parity.sample_context()
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0

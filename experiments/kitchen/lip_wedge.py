@@ -32,7 +32,7 @@ def bearing(f: LipCatch, pitch: float, clearance: float) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--split", default="test", choices=("train", "test", "all"))
     args = parser.parse_args()
     catalog = Catalog.load()
