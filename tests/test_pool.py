@@ -152,7 +152,8 @@ def test_vecenv_contract(paths):
         assert log["/termination/timeout"].tolist() == [1.0, 1.0]
         assert log["/termination/stagnation"].tolist() == [0.0, 0.0]
         assert log["/episode_reward/jerk"].tolist() == [0.0, 0.0]  # zero actions: no jerk
-        assert (log["/episode_reward/stage"] > 0).all()
+        assert (log["/episode_reward/approach"] > 0).all()  # towards t1 from home
+        assert log["/end_stage/1"].tolist() == [1.0, 1.0]
         # past dr.switch_iteration the next episode starts from perturbed poses
         handle = observations.slices()["handle_pos"]
         assert not torch.equal(obs["policy"][:, handle], first[:, handle])

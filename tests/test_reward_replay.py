@@ -31,8 +31,8 @@ ROUND_OFF = 1e-9  # relative: the engine's round-off across MuJoCo releases is 1
 
 def test_replayed_episode_gives_the_recorded_rewards_to_round_off(tmp_path):
     ref = np.load(REFERENCE)
-    # recorded with the appendix's w_open2 = 0 (the default since is 2.0: realikea/conf/task)
-    overrides = [*ref["overrides"].tolist(), "task.reward.w_open2=0.0"]
+    # recorded with the appendix reward (latched) and its w_open2 = 0
+    overrides = [*ref["overrides"].tolist(), "task/reward=appendix", "task.reward.w_open2=0.0"]
     cfg = load_config([*overrides, f"paths.library={tmp_path}"])
     task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
     recorded_obs = [task.reset()]

@@ -1,4 +1,5 @@
-"""The staged reward's formulas: saturation values, continuity and monotonicity across stages."""
+"""The appendix reward variant's formulas: saturation values, continuity and monotonicity across
+stages, latched progress."""
 
 from __future__ import annotations
 
@@ -6,15 +7,15 @@ import numpy as np
 import pytest
 
 from realikea.tasks.outcome import fractions, outcome
-from realikea.tasks.rewards import (
-    RewardParams,
-    jerk_penalty,
-    next_stage,
+from realikea.tasks.rewards.appendix import (
+    AppendixParams,
+    latched_stage,
     open_reward,
     staged_reward,
 )
+from realikea.tasks.rewards.terms import jerk_penalty
 
-P = RewardParams()
+P = AppendixParams()
 OUTCOME = {"success": {"slide": 0.20, "hinge": 0.785}, "partial": {"slide": 0.02, "hinge": 0.087}}
 
 
@@ -67,7 +68,7 @@ def test_reward_is_continuous_at_the_stage_boundaries_it_is_reached_from():
     ],
 )
 def test_stage_progression_is_latched_and_gated_on_closure(stage, d1, d2, aperture, expected):
-    assert next_stage(stage, d1, d2, aperture, P) == expected
+    assert latched_stage(stage, d1, d2, aperture, P) == expected
 
 
 def test_stage_rewards_are_plain_floats_rising_with_the_stage():

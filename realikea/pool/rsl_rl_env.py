@@ -19,7 +19,7 @@ from tensordict import TensorDict
 from realikea.errors import RealIkeaError
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.outcome import OUTCOMES
-from realikea.tasks.rewards import REWARD_TERMS
+from realikea.tasks.rewards import STAGES
 from realikea.tasks.terminations import TERMINATIONS, TIMEOUT
 
 OBS_GROUPS = ("policy", "critic")
@@ -100,7 +100,8 @@ class RslRlVecEnv(VecEnv):
 
     def _log(self, episodes: list[dict]) -> dict[str, float | torch.Tensor]:
         """Per-episode values (rsl-rl averages them over the iteration): outcome indicators, each
-        reward term's episode sum (`/episode_reward/<term>`), termination indicators
+        reward term's episode sum (`/episode_reward/<term>`), the reward stage an episode ended
+        in (`/end_stage/<1-4>`), termination indicators
         (`/termination/<name>`), success per category and kind (`/success/<category>_<kind>`,
         over the iteration's episodes of that group); and the pool's counters."""
         log: dict[str, float | torch.Tensor] = {}
@@ -109,8 +110,11 @@ class RslRlVecEnv(VecEnv):
             for name in dict.fromkeys([*TERMINATIONS, TIMEOUT, *names]):
                 log[f"/termination/{name}"] = torch.tensor([float(x == name) for x in names])
         summed = [e["reward_terms"] for e in episodes if "reward_terms" in e]
-        for term in REWARD_TERMS if summed else ():
+        for term in dict.fromkeys(t for terms in summed for t in terms):
             log[f"/episode_reward/{term}"] = torch.tensor([e.get(term, 0.0) for e in summed])
+        stages = [int(e["stage"]) for e in episodes if "stage" in e]
+        for stage in range(1, STAGES + 1) if stages else ():
+            log[f"/end_stage/{stage}"] = torch.tensor([float(x == stage) for x in stages])
         finished = [e for e in episodes if "outcome" in e]
         if finished:
             labels = [e["outcome"] for e in finished]

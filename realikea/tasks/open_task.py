@@ -7,7 +7,7 @@ them is the env pool's business (realikea/pool).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import mujoco
@@ -17,7 +17,7 @@ from omegaconf import DictConfig, OmegaConf
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
-from realikea.sim.robot import FINGER_BODIES, HAND_BODY, GripperModel
+from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, GripperModel
 from realikea.sim.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -43,9 +43,10 @@ from realikea.tasks.contacts import (
 )
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonitor, FailureParams
+from realikea.tasks.grip import NO_GRIP, GripSensor
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
-from realikea.tasks.rewards import RewardParams, StepValues, next_stage, weighted_terms
+from realikea.tasks.rewards import StepValues, reward_from_config
 from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 
 ACTION_SIZE = 5
@@ -91,7 +92,8 @@ class OpenTask:
     action_size = ACTION_SIZE
     # what an episode's record in the env pool keeps of the final info
     episode_keys = (
-        "outcome", "termination", "opening", "reward_terms", "category", "kind", *SUMMARY_KEYS,
+        "outcome", "termination", "opening", "stage", "reward_terms", "category", "kind",
+        *SUMMARY_KEYS,
         *FAILURE_KEYS,
     )  # fmt: skip
 
@@ -112,7 +114,7 @@ class OpenTask:
             self.home = rolled.converge(self.home - [0, 0, 0, 0, 0, 0, roll], position, 0.0)
         self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home, base_pos=base)
         self.gripper = GripperModel.from_config(cfg.gripper)
-        self.params = RewardParams(**task.reward)
+        self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
         self.randomization = Randomization.from_config(cfg.dr)
         self.rng = np.random.default_rng(seed)
         self.decimation = int(task.decimation)
@@ -151,6 +153,7 @@ class OpenTask:
         parts = np.flatnonzero(m.geom_bodyid == self._part).tolist()
         panel = [g for g in subtree_geoms(m, m.jnt_bodyid[front.id]) if g not in parts]
         self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
+        self.grip_sensor = GripSensor(m, PAD_GEOMS, FINGER_BODIES, PART_BODY)
         self.state = EpisodeState()
         self._nominal_handle = np.zeros(3)
         self._t1, self._t2 = self.o1, self.o2
@@ -185,6 +188,22 @@ class OpenTask:
         rel = self.data.site_xpos[self._tcp] - self.data.site_xpos[self._handle]
         e1, e2 = rel - self._t1, rel - self._t2
         return math.sqrt(e1.dot(e1)), math.sqrt(e2.dot(e2))
+
+    def _step_values(self, stage: int, action: list[float], ik_ok: bool) -> StepValues:
+        """What the reward reads of the scene now, the stage still `stage`."""
+        s, d = self.state, self.data
+        d1, d2 = self._targets()
+        opening = self.opening
+        p = self.params
+        radius = getattr(p, "straddle_radius", None)  # None: the variant reads no grip
+        grip = NO_GRIP
+        if radius is not None:
+            site, u = d.site_xpos[self._handle].tolist(), self.pull_direction().tolist()
+            grip = self.grip_sensor.read(d, site, u, radius, p.hook_cos)
+        return StepValues(
+            stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
+            grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
+        )  # fmt: skip
 
     def pull_direction(self) -> np.ndarray:
         """Unit world direction the handle moves in as the front opens (the joint's Jacobian)."""
@@ -252,8 +271,8 @@ class OpenTask:
         # the paper's approach offsets share one lateral bias, along the handle's long axis
         lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
-        d1, d2 = self._targets()
-        self.state.stage = int(next_stage(1, d1, d2, self.aperture, self.params))
+        values = self._step_values(1, [0.0] * ACTION_SIZE, True)
+        self.state.stage = self.reward.next_stage(1, values, self.params)
         return self.observe()
 
     def apply_action(self, action) -> bool:
@@ -321,15 +340,12 @@ class OpenTask:
         s, p, a = self.state, self.params, self._last_action
         s.steps += 1
         diverged = self.diverged()
-        d1, d2 = self._targets()
-        aperture, opening = self.aperture, self.opening
-        s.stage = next_stage(s.stage, d1, d2, aperture, p)
-        values = StepValues(
-            s.stage, d1, d2, aperture, opening,
-            a.tolist(), s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
-        )  # fmt: skip
+        values = self._step_values(s.stage, a.tolist(), ik_ok)
+        s.stage = self.reward.next_stage(s.stage, values, p)
+        values = replace(values, stage=s.stage)
+        opening = values.opening
         reward = 0.0
-        for name, value in weighted_terms(values, p):
+        for name, value in self.reward.weighted_terms(values, p):
             reward += value
             if not diverged:
                 s.term_sums[name] = s.term_sums.get(name, 0.0) + value

@@ -11,9 +11,10 @@ from rsl_rl.runners import OnPolicyRunner
 
 from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
-from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_saved
+from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_saved, run_config
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
+from realikea.tasks.rewards import reward_from_config, variant_name
 
 
 def runner_config(cfg: DictConfig) -> dict:
@@ -58,10 +59,28 @@ class Runner(OnPolicyRunner):
         super().save(path, {**self.infos, **(infos or {})})
 
 
-def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
-    """Load weights and optimizer state with clear errors for missing or corrupt files."""
+def check_reward_variant(path: Path, saved: dict, cfg: DictConfig) -> None:
+    """Refuse to resume a run under another reward variant than the one it was trained on."""
+    trained = variant_name(run_config(path, saved).task.reward)
+    asked = variant_name(cfg.task.reward)
+    if trained != asked:
+        raise RealIkeaError(
+            f"{path}: trained on the {trained!r} reward variant, this run asks for {asked!r}; "
+            f"resume with task/reward={trained} or start a new run"
+        )
+
+
+def check_resumable(path: Path, cfg: DictConfig) -> None:
+    """Refuse, before any work, a checkpoint that is missing, corrupt, trained on another
+    observation layout or under another reward variant than `cfg` asks for."""
     path = Path(path)
-    check_layout(path, load_saved(path))
+    saved = load_saved(path)
+    check_layout(path, saved)
+    check_reward_variant(path, saved, cfg)
+
+
+def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
+    """Load weights and optimizer state (`check_resumable` first)."""
     try:
         runner.load(str(path))
     except Exception as err:  # torch raises many types for truncated or foreign files
@@ -74,6 +93,9 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     torch.set_num_threads(int(cfg.train.torch_threads))
     torch.manual_seed(int(cfg.env.seed))
     np.random.seed(int(cfg.env.seed))
+    reward_from_config(OmegaConf.to_container(cfg.task.reward))  # a bad variant fails here
+    if cfg.train.resume:
+        check_resumable(Path(cfg.train.resume), cfg)
     mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
     pool = EnvPool(cfg, mjcfs)
     try:
@@ -88,7 +110,10 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         if cfg.train.resume:
             load_checkpoint(runner, Path(cfg.train.resume))
             env.set_iteration(runner.current_learning_iteration)
-        runner.learn(int(cfg.agent.max_iterations))
+        runner.learn(
+            int(cfg.agent.max_iterations),
+            init_at_random_ep_len=bool(cfg.agent.init_at_random_ep_len),
+        )
     finally:
         pool.close()
     return run_dir / f"model_{runner.current_learning_iteration}.pt"

@@ -1,0 +1,135 @@
+"""The reward screen (issue 32): train each recipe on the cells where the appendix recipe died,
+with both collision sources and several seeds, two runs at a time; keep each finished run in
+experiments/reward_screen/runs/NAME/ (its Hydra config, metrics, slim last checkpoint, wall time).
+
+    python experiments/reward_screen/screen.py                  # every run not yet kept
+    python experiments/reward_screen/screen.py --recipes gated --cells knob_smooth --seeds 0 1
+    python experiments/reward_screen/screen.py --dry-run        # the commands and their state
+
+Drawers in the kitchen, train parts, 400 iterations with fixed poses to 200 (then randomized),
+one env worker a run. NAME is <recipe>_<collision>_<cell>_s<seed>. The same command resumes a
+stopped run from its last checkpoint (realikea/training/queue.py). The table and the curves:
+`python experiments/reward_screen/report.py`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import shutil
+import sys
+from pathlib import Path
+
+from realikea.eval.sweep import checkpoints
+from realikea.files import WORKSPACE, atomic_write_text
+from realikea.policies.checkpoint import slim_checkpoint
+from realikea.reports.metrics import join_launches
+from realikea.training.queue import QueuedRun, RunQueue
+
+KEPT = WORKSPACE / "experiments/reward_screen/runs"
+WORK = WORKSPACE / "outputs/reward_screen"
+ITERATIONS = 400
+SWITCH = 200  # fixed poses before this iteration, randomized from it
+# the cells where the appendix recipe died (the fidelity grid, 900 iterations: 0-2 of 6 runs
+# learned in each): (category, training resistance)
+CELLS = {
+    "two_point_smooth": ("two_point", "smooth"),
+    "knob_smooth": ("knob", "smooth"),
+    "finger_pull_smooth": ("finger_pull", "smooth"),
+    "knob_high": ("knob", "high"),
+}
+COLLISIONS = ("coacd", "hull")
+# recipe -> the train.py overrides that make it (the rest: the defaults)
+RECIPES = {
+    "gated": ["task/reward=gated"],
+    # the fidelity grid's recipe: the appendix reward with w_open2 = 0, every env in lockstep
+    "appendix": [
+        "task/reward=appendix", "task.reward.w_open2=0.0", "agent.init_at_random_ep_len=false",
+    ],
+    # one change of the gated recipe undone at a time
+    "gated_lockstep": ["task/reward=gated", "agent.init_at_random_ep_len=false"],
+    "gated_unscaled": ["task/reward=gated", "task.reward.scale=1.0"],
+}  # fmt: skip
+COMMON = [
+    "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",
+    f"agent.max_iterations={ITERATIONS}", "agent.save_interval=50", "dr=two_phase",
+    f"dr.switch_iteration={SWITCH}",
+]  # fmt: skip
+
+
+def screen_run(recipe: str, collision: str, cell: str, seed: int) -> QueuedRun:
+    category, resistance = CELLS[cell]
+    overrides = [*RECIPES[recipe], f"collision={collision}", f"asset={category}"]
+    overrides += [f"resistance={resistance}", f"env.seed={seed}", *COMMON]
+    return QueuedRun(f"{recipe}_{collision}_{cell}_s{seed}", tuple(overrides), ITERATIONS)
+
+
+def last_checkpoint(run: QueuedRun) -> str:
+    return f"model_{run.iterations - 1}.pt"
+
+
+def keep(run: QueuedRun, seconds: list[float]) -> Path:
+    """Copy the finished run's config, joined metrics, slim last checkpoint and wall time."""
+    source, target = WORK / run.name, KEPT / run.name
+    staging = target.with_name(target.name + ".partial")
+    shutil.rmtree(staging, ignore_errors=True)
+    shutil.copytree(source / ".hydra", staging / ".hydra")
+    metrics = (source / "metrics.csv").read_text().splitlines()
+    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
+    last = checkpoints(source)[-1][1]
+    slim_checkpoint(last, staging / last.name)
+    atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
+    shutil.rmtree(target, ignore_errors=True)
+    staging.rename(target)
+    return target
+
+
+def kept(run: QueuedRun) -> bool:
+    return (KEPT / run.name / last_checkpoint(run)).is_file()
+
+
+QUEUE = RunQueue(WORK, last_checkpoint, keep, kept)
+
+
+def planned(args: argparse.Namespace) -> list[QueuedRun]:
+    """The runs the arguments select, seed by seed (every cell has a seed before any has two)."""
+    for name, given, known in (
+        ("recipe", args.recipes, RECIPES),
+        ("cell", args.cells, CELLS),
+        ("collision", args.collisions, COLLISIONS),
+    ):
+        bad = [v for v in given if v not in known]
+        if bad:
+            raise ValueError(f"unknown {name} {', '.join(bad)}: use {', '.join(known)}")
+    if any(s < 0 for s in args.seeds):
+        raise ValueError(f"seeds must be >= 0, got {args.seeds}")
+    return [
+        screen_run(recipe, collision, cell, seed)
+        for recipe in args.recipes
+        for seed, cell, collision in itertools.product(args.seeds, args.cells, args.collisions)
+    ]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--recipes", nargs="+", default=["gated"])
+    parser.add_argument("--cells", nargs="+", default=list(CELLS))
+    parser.add_argument("--collisions", nargs="+", default=list(COLLISIONS))
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2, 3, 4])
+    parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
+    parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    args = parser.parse_args()
+    try:
+        runs = planned(args)
+    except ValueError as err:
+        parser.error(str(err))
+    if args.dry_run:
+        for run in runs:
+            print(f"{QUEUE.state(run)}: " + " ".join(QUEUE.command(run)[1:]))
+        return 0
+    return QUEUE.run_all(runs, args.jobs)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

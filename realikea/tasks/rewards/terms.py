@@ -1,0 +1,53 @@
+"""What every reward variant reads after a control step, and the formulas they share.
+
+All functions take and return plain Python numbers for one environment: the task evaluates them
+once per env and control step, where numpy's per-call overhead on scalars would cost more than
+the arithmetic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class StepValues:
+    """What the reward terms read after one control step (plain Python numbers)."""
+
+    stage: int
+    d1: float  # TCP to the pre-grasp target t1 (m)
+    d2: float  # TCP to the grasp target t2 (m)
+    aperture: float  # normalized finger opening
+    opening: float  # the front's displacement (m or rad)
+    progress: float  # opening / the success threshold of the joint type
+    straddle: bool  # the handle site lies between the two pads, near the line joining them
+    engaged: bool  # grasp readiness: a pinch (straddling, both fingers on the part) or a hook
+    action: list[float]
+    prev_action: list[float]
+    prev_prev_action: list[float]
+    ik_ok: bool
+
+
+def approach(d: float, weight: float, eps: float) -> float:
+    """The logarithmic approach shaping w * (-log(d + eps))."""
+    return weight * -math.log(d + eps)
+
+
+def jerk_penalty(action, previous, before_previous, weight: float) -> float:
+    """-w * ||a_t - 2 a_{t-1} + a_{t-2}||^2 (sequences of floats): discourages jerky commands."""
+    total = 0.0
+    for a, b, c in zip(action, previous, before_previous, strict=True):
+        second_difference = a - 2.0 * b + c
+        total += second_difference * second_difference
+    return -weight * total
+
+
+def jerk_term(v: StepValues, p) -> float:
+    """-||a_t - 2 a_{t-1} + a_{t-2}||^2, before its weight."""
+    return jerk_penalty(v.action, v.prev_action, v.prev_prev_action, 1.0)
+
+
+def ik_failure_term(v: StepValues, p) -> float:
+    """-1 on a step whose IK target was infeasible, before its weight."""
+    return 0.0 if v.ik_ok else -1.0

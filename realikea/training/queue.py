@@ -1,0 +1,126 @@
+"""Training runs as `train.py` processes, a few at a time, each resumable and kept when done.
+
+A run trains in WORK/NAME (git-ignored). It is finished once WORK/NAME holds its `done` file
+(e.g. eval.json, or the last checkpoint), and
+then kept: `keep(run, seconds)` copies what the experiment commits. A stopped run (checkpoints,
+no `done` file) continues from its last checkpoint (`train.resume=`) for the iterations it
+still lacks, appending to its metrics.csv. A run whose training process is alive (WORK/NAME.pid)
+is left to it, so two drivers never train the same run. Each launch's wall time is written to
+WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from realikea.eval.sweep import checkpoints
+from realikea.files import WORKSPACE, atomic_write_text
+
+POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
+
+
+@dataclass(frozen=True)
+class QueuedRun:
+    """One training run: its name (its folder), train.py overrides and length."""
+
+    name: str
+    overrides: tuple[str, ...]
+    iterations: int
+
+
+@dataclass
+class RunQueue:
+    """Where runs train (`work`), what marks one finished (`done(run)`: a file name in its run
+    directory), how a finished one is kept (`keep(run, launch seconds)` -> where) and whether
+    it is (`kept(run)`)."""
+
+    work: Path
+    done: Callable[[QueuedRun], str]
+    keep: Callable[[QueuedRun, list[float]], Path]
+    kept: Callable[[QueuedRun], bool]
+
+    def command(self, run: QueuedRun) -> list[str]:
+        """The train.py command of `run`, continuing from its last checkpoint if it has one."""
+        out = [sys.executable, str(WORKSPACE / "train.py"), *run.overrides]
+        out.append(f"hydra.run.dir={self.work / run.name}")
+        if any((self.work / run.name).glob("model_*.pt")):
+            last, path = checkpoints(self.work / run.name)[-1]
+            out += [f"train.resume={path}", f"agent.max_iterations={run.iterations - last}"]
+        return out
+
+    def running(self, run: QueuedRun) -> bool:
+        """Whether a training process of `run` (its pid file) is alive."""
+        pid_file = self.work / f"{run.name}.pid"
+        if not pid_file.is_file():
+            return False
+        try:
+            os.kill(int(pid_file.read_text()), 0)
+        except (ProcessLookupError, ValueError):
+            return False
+        return True
+
+    def state(self, run: QueuedRun) -> str:
+        """kept, running, finished (not yet kept), stopped (has checkpoints) or new."""
+        if self.kept(run):
+            return "kept"
+        if self.running(run):
+            return "running"
+        if self.finished(run):
+            return "finished"
+        return "stopped" if any((self.work / run.name).glob("model_*.pt")) else "new"
+
+    def finished(self, run: QueuedRun) -> bool:
+        return (self.work / run.name / self.done(run)).is_file()
+
+    def wall_times(self, run: QueuedRun) -> list[float]:
+        """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
+        path = self.work / f"{run.name}.wall.json"
+        return json.loads(path.read_text()) if path.is_file() else []
+
+    def _launch(self, run: QueuedRun) -> subprocess.Popen:
+        self.work.mkdir(parents=True, exist_ok=True)
+        log = (self.work / f"{run.name}.log").open("a")
+        print(f"start {run.name}: {' '.join(self.command(run)[1:])}", flush=True)
+        proc = subprocess.Popen(
+            self.command(run), cwd=WORKSPACE, stdout=log, stderr=subprocess.STDOUT
+        )
+        atomic_write_text(self.work / f"{run.name}.pid", f"{proc.pid}\n")
+        return proc
+
+    def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
+        """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
+        queue = [r for r in runs if not self.kept(r)]
+        print(f"{len(runs) - len(queue)} of {len(runs)} runs already kept; {len(queue)} to go")
+        active: dict[QueuedRun, tuple[subprocess.Popen, float, list[float]]] = {}
+        failed = 0
+        while queue or active:
+            while queue and len(active) < jobs:
+                run = queue.pop(0)
+                if self.running(run):
+                    print(f"skip {run.name}: being trained by another process", flush=True)
+                    continue
+                if self.finished(run):  # finished, not kept
+                    print(f"kept {self.keep(run, self.wall_times(run))}", flush=True)
+                    continue
+                active[run] = (self._launch(run), time.time(), self.wall_times(run))
+            time.sleep(POLL_SECONDS)
+            for run, (proc, begin, earlier) in list(active.items()):
+                seconds = [*earlier, time.time() - begin]
+                atomic_write_text(self.work / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
+                if proc.poll() is None:
+                    continue
+                del active[run]
+                if proc.returncode == 0 and self.finished(run):
+                    kept = self.keep(run, seconds)
+                    print(f"kept {kept} ({seconds[-1] / 60:.1f} min)", flush=True)
+                else:
+                    failed += 1
+                    print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
+        return 1 if failed else 0

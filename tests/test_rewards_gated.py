@@ -1,0 +1,176 @@
+"""The gated reward variant against the appendix variant's traps: closed empty jaws at the handle,
+a lost grasp, a knob wider than the jaws close to, partial openings; on the formulas and, for
+the grasp gates, on scripted policies in the kitchen (pinch, hook, lever, a closed-jaws poke)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from realikea.assets.library import training_configurations
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+from realikea.policies.registry import make_policy
+from realikea.policies.scripted import CLOSE, Waypoint, WaypointPolicy
+from realikea.tasks.grip import straddles
+from realikea.tasks.open_task import OpenTask
+from realikea.tasks.rewards import VARIANTS, reward_from_config, variant_name
+from realikea.tasks.rewards.gated import GatedParams, next_stage
+from realikea.tasks.rewards.terms import StepValues
+
+P = GatedParams()
+GATED = VARIANTS["gated"]
+
+
+def values(stage=1, d1=0.3, d2=0.3, aperture=1.0, progress=0.0, straddle=False, engaged=False):
+    return StepValues(
+        stage, d1, d2, aperture, progress * 0.2, progress, straddle, engaged,
+        [0.0] * 5, [0.0] * 5, [0.0] * 5, True,
+    )  # fmt: skip
+
+
+def step_reward(**kwargs) -> tuple[int, float]:
+    """(stage, reward) of a step from the scene values `kwargs`."""
+    v = values(**kwargs)
+    stage = next_stage(v.stage, v, P)
+    v = values(**{**kwargs, "stage": stage})
+    return stage, sum(value for _, value in GATED.weighted_terms(v, P))
+
+
+@pytest.mark.parametrize("previous", [1, 2, 3, 4])
+def test_closed_empty_jaws_at_the_handle_do_not_reach_stage_4(previous):
+    """The appendix's 13-run trap: closed jaws within 2 cm of t2 latched stage 4."""
+    stage, r = step_reward(stage=previous, d1=0.06, d2=0.0, aperture=0.0)
+    assert stage == 2
+    assert r < step_reward(d2=0.0, aperture=0.5, straddle=True, engaged=True)[1]
+
+
+def test_a_lost_grasp_leaves_stage_4():
+    held = step_reward(stage=4, d2=0.01, aperture=0.3, straddle=True, engaged=True)
+    assert held[0] == 4
+    assert step_reward(stage=4, d2=0.05, aperture=0.3)[0] == 2  # slipped off, still near
+    assert step_reward(stage=4, d1=0.5, d2=0.5, aperture=0.3)[0] == 1  # the hand left
+    assert step_reward(stage=4, d2=0.01, aperture=0.6, straddle=True)[0] == 3  # jaws opened
+
+
+def test_each_stage_starts_at_or_above_the_previous_ones_maximum():
+    """Each stage's least reward (over its region) against the one before's greatest."""
+    far = 0.5
+    top1 = step_reward(d1=P.tau1, d2=far, aperture=1.0)
+    low2 = step_reward(d1=far, d2=P.refine_radius - 1e-9, aperture=0.0)
+    top2 = step_reward(d1=0.0, d2=0.0, aperture=1.0)
+    low3, top3 = (step_reward(d2=0.03, aperture=a, straddle=True) for a in (1.0, 0.0))
+    low4 = step_reward(d2=0.05, aperture=1.0, engaged=True)
+    assert [top1[0], low2[0], top2[0], low3[0], top3[0], low4[0]] == [1, 2, 2, 3, 3, 4]
+    assert low2[1] >= top1[1] and low3[1] >= top2[1] - 1e-12 and low4[1] >= top3[1]
+
+
+def test_a_partial_opening_earns_less_than_success_and_opening_pays_linearly():
+    """The appendix's log(100 q + 1) paid more for the first 2 cm than for 10 -> 20 cm."""
+    held = {q: step_reward(d2=0.01, aperture=0.3, engaged=True, progress=q)[1] for q in
+            (0.0, 0.1, 0.5, 0.6, 0.99, 1.0, 1.5)}  # fmt: skip
+    assert held[0.1] - held[0.0] == pytest.approx(held[0.6] - held[0.5])
+    assert held[1.0] - held[0.99] > P.scale * P.success_bonus  # the bonus at the threshold
+    assert held[1.5] == pytest.approx(held[1.0])  # nothing to gain past success
+    # holding a partial opening (half-way) for the rest of an episode returns less than success
+    assert 60 * held[0.5] < 60 * held[1.0] - 60 * P.scale * P.success_bonus
+
+
+def test_a_step_pays_at_most_about_one():
+    best = step_reward(d2=0.0, aperture=0.3, engaged=True, progress=1.0)[1]
+    assert 0.9 < best <= 1.05
+    assert step_reward(d1=1.0, d2=1.0, aperture=0.0)[1] > -0.01
+
+
+def test_straddle_is_between_the_inner_faces():
+    left, right = [0.0, 0.0, 0.0], [0.0, 0.05, 0.0]
+    assert straddles(left, right, [0.0, 0.025, 0.01], 0.02, 0.0045)
+    assert not straddles(left, right, [0.0, 0.025, 0.03], 0.02, 0.0045)  # too far off the line
+    assert not straddles(left, right, [0.0, 0.003, 0.0], 0.02, 0.0045)  # inside a pad
+    closed = [0.0, 0.009, 0.0]  # pad centres of closed jaws: the inner faces meet
+    assert not straddles(left, closed, [0.0, 0.0045, 0.0], 0.02, 0.0045)
+
+
+def test_an_unknown_variant_is_refused_with_the_list_of_variants():
+    with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
+        reward_from_config({"variant": "shaped"})
+    with pytest.raises(RealIkeaError, match="Available options in 'task/reward'"):
+        load_config(["task/reward=shaped"])
+    with pytest.raises(RealIkeaError, match="kappa not a constant of the 'gated'"):
+        reward_from_config({"variant": "gated", "kappa": 15.0})
+
+
+def test_a_config_naming_no_variant_is_the_appendix():
+    """Checkpoints committed before variants carry a task.reward without `variant`."""
+    assert variant_name({"w_open2": 0.0}) == "appendix"
+    assert variant_name(load_config().task.reward) == "gated"
+    assert math.isclose(GatedParams().hook_cos, math.cos(math.radians(70.0)))
+
+
+class ClosedPoke(WaypointPolicy):
+    """Closed jaws driven onto the handle point and held there: the appendix's empty stage 4."""
+
+    name = "closed_poke"
+
+    def plan(self, facts):
+        normal = facts.part_rot[:, 2]  # out of the front
+        return [
+            Waypoint(facts.handle_pos + 0.08 * normal, 0.0, CLOSE, tolerance=0.01),
+            Waypoint(facts.handle_pos, 0.0, CLOSE, tolerance=0.002, hold=60, timeout=60),
+        ]
+
+
+def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
+    """Per step: the stage, the aperture and the opening of one episode of `policy`."""
+    cfg = load_config(
+        [f"asset.part={part}", "asset.base=drawer_w60_h20", "dr=fixed", f"paths.library={library}",
+         *overrides],
+        "eval",
+    )  # fmt: skip
+    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
+    policy = make_policy(cfg) if isinstance(policy, str) else policy
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    steps = []
+    for _ in range(task.horizon):
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        steps.append(
+            {"stage": result.info["stage"], "aperture": task.aperture, "open": task.opening}
+        )
+        if result.terminated or result.truncated:
+            break
+    return steps
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    return tmp_path_factory.mktemp("library")
+
+
+@pytest.mark.parametrize("part", ["tp_round_bar_128", "knob_mushroom_34"])
+def test_a_closed_jaws_poke_reaches_stage_4_only_under_the_appendix(library, part):
+    appendix = _episode(library, part, ClosedPoke(), "task/reward=appendix")
+    gated = _episode(library, part, ClosedPoke())
+    assert max(s["stage"] for s in appendix) == 4 and appendix[-1]["open"] < 0.01
+    assert max(s["stage"] for s in gated) < 4
+
+
+@pytest.mark.parametrize(
+    ("part", "policy", "aperture"),
+    [
+        ("knob_mushroom_34", "policy=heuristic_pull", (0.4, 1.01)),  # a pinch wider than 0.4
+        ("tp_round_bar_128", "policy=hook_oracle", (0.0, 0.1)),  # a closed fist behind the bar
+        ("knob_mushroom_34", "policy=hook_oracle", (0.9, 1.01)),  # open jaws behind the head
+    ],
+)
+def test_pinches_hooks_and_levers_reach_stage_4_and_hold_it_while_opening(
+    library, part, policy, aperture
+):
+    steps = _episode(library, part, policy.split("=")[1], policy)
+    opening = [s for s in steps if s["open"] > 0.02]
+    assert opening and steps[-1]["open"] > 0.2  # the scripted policy opens the drawer
+    # stage 4 while it opens (a hook may lose its contact for a step as the drawer hits its stop)
+    assert sum(s["stage"] == 4 for s in opening) >= 0.9 * len(opening)
+    assert all(aperture[0] <= s["aperture"] <= aperture[1] for s in opening)
