@@ -5,18 +5,22 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from omegaconf import OmegaConf
 
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.eval.runs import check_eval_spec
+from realikea.eval.runs import check_eval_spec, eval_overrides
+from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
 from realikea.reports.metrics import join_launches
+from realikea.tasks.rewards import variant_name
 
 
 def script(name: str):
@@ -46,6 +50,7 @@ def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_te
     assert cfg.agent.max_iterations == 900 and cfg.dr.switch_iteration == 300
     assert cfg.train.eval_after.split == "test" and cfg.train.eval_after.episodes == 50
     assert cfg.task.reward.w_open2 == 0.0  # the appendix's, not the generalist's 2.0
+    assert cfg.task.reward.variant == "appendix" and not cfg.agent.init_at_random_ep_len
     assert cfg.train.eval_after.collision == "coacd"  # every run on the faithful geometry
     assert cfg.agent.max_iterations == grid().ITERATIONS
 
@@ -226,3 +231,38 @@ def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs
     assert module.run_overrides(tmp_path, "smooth", 8) == [
         "policy=checkpoint", "policy.path=x.pt", "resistance=smooth", "episodes=8"
     ]  # fmt: skip
+
+
+GRID_RUN = WORKSPACE / "experiments/fidelity_ablation/grid/coacd_high_two_point_s0"
+
+
+def test_a_committed_grid_checkpoint_evaluates_on_the_reward_it_was_trained_on():
+    """Its config names no reward variant (it predates them): the appendix, w_open2 = 0."""
+    overrides = eval_overrides(
+        list(OmegaConf.load(GRID_RUN / ".hydra/overrides.yaml")),
+        GRID_RUN / "model_899.pt",
+        "high",
+        OmegaConf.load(GRID_RUN / ".hydra/config.yaml").train.eval_after,
+    )
+    cfg, _ = eval_setup(overrides)
+    assert variant_name(cfg.task.reward) == "appendix" and cfg.task.reward.w_open2 == 0.0
+
+
+@pytest.mark.slow
+def test_the_committed_grids_eval_rerun_is_unchanged(tmp_path):
+    """`realikea eval rerun` of a committed grid run gives its committed eval.json (3 modes x 50
+    episodes on the test parts: about 5 min on the 2 cores)."""
+    run = tmp_path / GRID_RUN.name
+    shutil.copytree(GRID_RUN, run, ignore=shutil.ignore_patterns("videos"))
+    committed = json.loads((run / "eval.json").read_text())
+    out = subprocess.run(
+        [sys.executable, "-m", "realikea.cli", "eval", "rerun", str(run)],
+        cwd=WORKSPACE, capture_output=True, text=True,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr[-3000:]
+    again = json.loads((run / "eval.json").read_text())
+    for mode, entry in committed["modes"].items():
+        keys = ("fail", "partial", "success", "strategies", "failure_modes", "mean_return")
+        assert {k: again["modes"][mode][k] for k in keys} == pytest.approx(
+            {k: entry[k] for k in keys}, rel=1e-9
+        ), mode

@@ -10,8 +10,10 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
 HERE=experiments/generalist
-python train.py logger=none hydra.run.dir=outputs/generalist/coacd_s0 &
-python train.py logger=none collision=hull hydra.run.dir=outputs/generalist/hull_s0 &
+# the recipe these runs were trained with: the appendix reward (latched), every env in lockstep
+APPENDIX="task/reward=appendix agent.init_at_random_ep_len=false"
+python train.py logger=none $APPENDIX hydra.run.dir=outputs/generalist/coacd_s0 &
+python train.py logger=none $APPENDIX collision=hull hydra.run.dir=outputs/generalist/hull_s0 &
 wait
 for name in coacd hull; do
   python "$HERE/keep.py" "outputs/generalist/${name}_s0" "$name"
@@ -19,15 +21,15 @@ for name in coacd hull; do
     --episodes "$EPISODES"
 done
 # the CoACD run continued for 1,000 more iterations (session 7: 63 min beside two other runs)
-python train.py logger=none train.resume=outputs/generalist/coacd_s0/model_1499.pt \
+python train.py logger=none $APPENDIX train.resume=outputs/generalist/coacd_s0/model_1499.pt \
   agent.max_iterations=1000 hydra.run.dir=outputs/generalist/coacd_s0_cont
 python "$HERE/keep.py" outputs/generalist/coacd_s0_cont coacd_2500 --continues outputs/generalist/coacd_s0
 python "$HERE/evaluate.py" "$HERE/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
 # session 8: the same recipe with the appendix's w_open2 = 0, both sources (the CoACD run that
 # ran was outputs/generalist/coacd_s0, stopped at 667 in session 6 and resumed from model_650)
-python train.py logger=none collision=hull task.reward.w_open2=0 \
+python train.py logger=none $APPENDIX collision=hull task.reward.w_open2=0 \
   hydra.run.dir=outputs/generalist/hull_open2_0_s0 &
-python train.py logger=none task.reward.w_open2=0 hydra.run.dir=outputs/generalist/coacd_open2_0_s0 &
+python train.py logger=none $APPENDIX task.reward.w_open2=0 hydra.run.dir=outputs/generalist/coacd_open2_0_s0 &
 wait
 python "$HERE/keep.py" outputs/generalist/hull_open2_0_s0 hull_open2_0
 python "$HERE/keep.py" outputs/generalist/coacd_open2_0_s0 coacd_open2_0
