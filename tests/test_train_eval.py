@@ -13,6 +13,7 @@ import pytest
 import torch
 
 from realikea.cli import main
+from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
 from realikea.eval.stats import wilson
@@ -21,6 +22,7 @@ from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.reports.generalist import evaluate_grid, read_cells, success_table
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
+from realikea.training.train import train
 
 SMALL = [
     "asset=two_point",
@@ -323,3 +325,43 @@ def test_a_slim_checkpoint_acts_like_its_source(run, tmp_path):
     full, small = CheckpointPolicy(run_dir / "model_1.pt"), CheckpointPolicy(slim)
     np.testing.assert_array_equal(full.act(obs), small.act(obs))
     assert small.run_cfg.agent.max_iterations == 2
+
+
+@pytest.mark.parametrize("spread", [True, False])
+def test_episode_starts_spread_after_the_first_rollout(run, tmp_path, spread):
+    """init_at_random_ep_len: 15-step episodes, 8-step rollouts. In lockstep no episode ends in
+    the first rollout; spread, some do (each env starts at a random point of its first one,
+    drawn with the run's seed)."""
+    _, library = run
+    cfg = load_config(
+        [*SMALL, "env.num_envs=4", "logger=none", "agent.max_iterations=2",
+         "agent.num_steps_per_env=8", f"agent.init_at_random_ep_len={spread}",
+         f"paths.library={library}"]
+    )  # fmt: skip
+    train(cfg, tmp_path)
+    # rsl-rl logs the mean episode length of the iterations in which an episode ended (the ends
+    # of the shortened first episodes included)
+    rows = (tmp_path / "metrics.csv").read_text().splitlines()
+    ended = {int(row.split(",")[0]) for row in rows if ",Train/mean_episode_length," in row}
+    assert (0 in ended) == spread
+    assert 1 in ended  # by step 16 every lockstep episode has ended too
+
+
+def test_resuming_under_another_reward_variant_is_refused_naming_both(run, tmp_path, capsys):
+    run_dir, library = run
+    args = [*SMALL, "logger=none", "task/reward=appendix", f"paths.library={library}"]
+    args += [f"hydra.run.dir={tmp_path}", f"train.resume={run_dir / 'model_1.pt'}"]
+    out = subprocess.run(
+        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
+    )
+    assert out.returncode != 0
+    assert "trained on the 'gated' reward variant, this run asks for 'appendix'" in out.stderr
+    assert not list(tmp_path.glob("model_*.pt"))
+
+
+def test_an_unknown_reward_variant_fails_before_any_work(tmp_path):
+    cfg = load_config([*SMALL, f"paths.library={tmp_path / 'library'}"])
+    cfg.task.reward.variant = "shaped"
+    with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
+        train(cfg, tmp_path / "run")
+    assert not (tmp_path / "library").exists() and not (tmp_path / "run").exists()

@@ -50,6 +50,10 @@ from realikea.tasks.rewards import StepValues, reward_from_config
 from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 
 ACTION_SIZE = 5
+# The Panda reflected in the vertical plane through its base: joints 1, 3, 5 and 7 turn the other
+# way (their limits are symmetric about 0), 2, 4 and 6 keep their angles; with the hand mounted at
+# -45 deg on the flange, the reflected hand is the rolled hand turned a half turn (the same jaws)
+MIRRORED_JOINTS = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
 # MuJoCo's warnings that a step went wrong: a NaN/huge state or control (MuJoCo then silently
 # resets the state or zeroes the control) or a full arena (contacts or constraints dropped)
 INSTABILITY_WARNINGS = tuple(
@@ -109,9 +113,14 @@ class OpenTask:
         self.home = np.asarray(cfg.sim.robot.home, float)
         base = self.model.body("link0").pos.copy()  # where the scene placed the robot
         if roll:  # turning the hand about its approach axis is turning joint 7
-            rolled = IKController.from_config(cfg, nominal=self.nominal, base_pos=base)
-            position, _ = rolled.tcp_pose(self.home)
-            self.home = rolled.converge(self.home - [0, 0, 0, 0, 0, 0, roll], position, 0.0)
+            start, posture = self.home - [0, 0, 0, 0, 0, 0, roll], None
+            if _mirrored_door(self.model, roll):  # the right-hinged twin's arm, mirrored
+                start = posture = MIRRORED_JOINTS * self.home
+            rolled = IKController.from_config(
+                cfg, nominal=self.nominal, home=posture, base_pos=base
+            )
+            position, _ = rolled.tcp_pose(start)
+            self.home = rolled.converge(start, position, 0.0)
         self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home, base_pos=base)
         self.gripper = GripperModel.from_config(cfg.gripper)
         self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
@@ -401,6 +410,19 @@ def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float) -> float:
         if float(axis @ rolled_nominal(roll)[:, 0]) < 0:  # than the pose randomization's degrees
             roll -= math.pi
     return roll
+
+
+def _mirrored_door(model: mujoco.MjModel, roll: float) -> bool:
+    """Whether a configuration is a door whose hand `_hand_roll` turned the other way (the
+    left-hinged doors: the handle swings towards -y), whose arm starts from the mirror image of
+    the home posture (`MIRRORED_JOINTS`). The home posture is not mirror-symmetric (wrist bent
+    to one side, joint 5 at +1.51 rad, the TCP 0.15 m to one side of the base): with it, the pull
+    on a wide left-hinged door runs joints 5 and 6 into their upper limits at about 0.7 rad,
+    where its right-hinged twin keeps 0.5 rad on both; mirrored, the two pulls mirror each
+    other."""
+    joint = model.joint(FRONT_JOINT)
+    vertical = abs(float(model.jnt_axis[joint.id][2])) > 0.5
+    return joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE and vertical and roll < 0
 
 
 def _catalog_entries(config_id: str):
