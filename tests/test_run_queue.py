@@ -1,0 +1,65 @@
+"""The run queue (realikea/training/queue.py): resume from the last checkpoint, state, wall time,
+keeping a finished run, and a failed one kept nowhere."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from realikea.training import queue
+from realikea.training.queue import QueuedRun, RunQueue
+
+
+def _queue(tmp_path, kept: list[str]) -> RunQueue:
+    def keep(run: QueuedRun, seconds: list[float]):
+        kept.append(run.name)
+        return tmp_path / "kept" / run.name
+
+    return RunQueue(
+        tmp_path / "work",
+        lambda run: f"model_{run.iterations - 1}.pt",
+        keep,
+        lambda run: run.name in kept,
+    )
+
+
+RUN = QueuedRun("gated_hull_knob_smooth_s0", ("task/reward=gated", "asset=knob"), 400)
+
+
+def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path):
+    q = _queue(tmp_path, [])
+    assert q.state(RUN) == "new" and not any("train.resume" in a for a in q.command(RUN))
+    run_dir = tmp_path / "work" / RUN.name
+    run_dir.mkdir(parents=True)
+    for it in (0, 50, 150):
+        (run_dir / f"model_{it}.pt").write_bytes(b"")
+    command = q.command(RUN)
+    assert command[2:4] == list(RUN.overrides)
+    assert f"train.resume={run_dir / 'model_150.pt'}" in command
+    assert "agent.max_iterations=250" in command  # 150 + 250 = the run's 400
+    assert q.state(RUN) == "stopped"
+    (tmp_path / "work" / f"{RUN.name}.pid").write_text("999999999\n")  # no such process
+    assert q.state(RUN) == "stopped"
+    (run_dir / "model_399.pt").write_bytes(b"")
+    assert q.state(RUN) == "finished"
+
+
+def test_a_finished_run_is_kept_and_a_failed_one_is_not(tmp_path, monkeypatch, capsys):
+    kept: list[str] = []
+    q = _queue(tmp_path, kept)
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.2)
+    done = tmp_path / "work" / RUN.name / "model_399.pt"
+    wall = tmp_path / "work" / f"{RUN.name}.wall.json"
+    # the "training" sleeps, prints its wall record mid-run and writes no last checkpoint
+    script = f"import time; time.sleep(1.0); print(open({str(wall)!r}).read())"
+    monkeypatch.setattr(RunQueue, "command", lambda self, run: [sys.executable, "-c", script])
+    assert q.run_all([RUN], jobs=1) == 1 and kept == []
+    assert "FAILED" in capsys.readouterr().out
+    mid_run = json.loads((tmp_path / "work" / f"{RUN.name}.log").read_text())
+    assert 0.1 < mid_run[0] < q.wall_times(RUN)[0]  # a stopped launch would still count
+    # now it writes its last checkpoint: kept, with both launches' wall times
+    done.parent.mkdir(parents=True)
+    script = f"open({str(done)!r}, 'w').close()"
+    assert q.run_all([RUN], jobs=1) == 0 and kept == [RUN.name]
+    assert len(q.wall_times(RUN)) == 2 and q.state(RUN) == "kept"
+    assert q.run_all([RUN], jobs=1) == 0 and "1 of 1 runs already kept" in capsys.readouterr().out
