@@ -25,7 +25,7 @@ import time
 import numpy as np
 
 from realikea.files import WORKSPACE
-from realikea.reports.metrics import read_metrics
+from realikea.training.metrics import read_metrics
 
 
 def time_to_target(series, tag: str, target: float, window: int):

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from realikea.files import atomic_path  # noqa: E402
-from realikea.reports.metrics import read_metrics  # noqa: E402
+from realikea.training.metrics import read_metrics  # noqa: E402
 
 WINDOW = 50
 

@@ -16,7 +16,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from realikea.reports.metrics import read_metrics  # noqa: E402
+from realikea.training.metrics import read_metrics  # noqa: E402
 
 
 def main() -> None:

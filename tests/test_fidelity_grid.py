@@ -19,8 +19,8 @@ from realikea.errors import RealIkeaError
 from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
-from realikea.reports.metrics import join_launches
 from realikea.tasks.rewards import variant_name
+from realikea.training.metrics import join_launches
 
 
 def script(name: str):

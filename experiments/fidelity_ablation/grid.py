@@ -36,7 +36,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text, shown_path
 from realikea.policies.checkpoint import slim_checkpoint
-from realikea.reports.metrics import join_launches
+from realikea.training.metrics import join_launches
 
 ROOT = Path(__file__).resolve().parents[2]
 KEPT = ROOT / "experiments/fidelity_ablation/grid"

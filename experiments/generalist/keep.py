@@ -6,7 +6,7 @@ learning curve, in experiments/generalist/NAME/.
 
 A run resumed from another (`train.resume=`) logs from the checkpoint it resumed; `--continues`
 puts the earlier run's metrics in front, each iteration the two share taken from the resumed
-run (`realikea.reports.metrics.join_launches`).
+run (`realikea.training.metrics.join_launches`).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from pathlib import Path
 from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import slim_checkpoint
-from realikea.reports.metrics import join_launches
+from realikea.training.metrics import join_launches
 
 HERE = Path(__file__).resolve().parent
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from realikea.files import WORKSPACE
 from realikea.reports.fidelity_ablation import iterations_to_success
-from realikea.reports.metrics import read_metrics
+from realikea.training.metrics import read_metrics
 
 LAST = (880, 899)  # the iterations read for where a run ended
 FIRST = 20  # the first iterations checked for finished episodes

@@ -30,7 +30,7 @@ from realikea.reports.fidelity_ablation import (  # noqa: E402
     iterations_to_success,
     trailing_mean,
 )
-from realikea.reports.metrics import read_metrics  # noqa: E402
+from realikea.training.metrics import read_metrics  # noqa: E402
 
 NAME = re.compile(r"(?P<recipe>.+)_(?P<collision>coacd|hull)_(?P<cell>.+)_s(?P<seed>\d+)$")
 STAGES = (1, 2, 3, 4)

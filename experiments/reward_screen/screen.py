@@ -16,16 +16,11 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import json
-import shutil
 import sys
 from pathlib import Path
 
-from realikea.eval.sweep import checkpoints
-from realikea.files import WORKSPACE, atomic_write_text
-from realikea.policies.checkpoint import slim_checkpoint
-from realikea.reports.metrics import join_launches
-from realikea.training.queue import QueuedRun, RunQueue
+from realikea.files import WORKSPACE
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 KEPT = WORKSPACE / "experiments/reward_screen/runs"
 WORK = WORKSPACE / "outputs/reward_screen"
@@ -70,19 +65,7 @@ def last_checkpoint(run: QueuedRun) -> str:
 
 
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
-    """Copy the finished run's config, joined metrics, slim last checkpoint and wall time."""
-    source, target = WORK / run.name, KEPT / run.name
-    staging = target.with_name(target.name + ".partial")
-    shutil.rmtree(staging, ignore_errors=True)
-    shutil.copytree(source / ".hydra", staging / ".hydra")
-    metrics = (source / "metrics.csv").read_text().splitlines()
-    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
-    last = checkpoints(source)[-1][1]
-    slim_checkpoint(last, staging / last.name)
-    atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
-    shutil.rmtree(target, ignore_errors=True)
-    staging.rename(target)
-    return target
+    return keep_run(WORK / run.name, KEPT / run.name, seconds)
 
 
 def kept(run: QueuedRun) -> bool:

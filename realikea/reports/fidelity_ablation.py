@@ -21,10 +21,10 @@ from realikea.eval.stats import count, diff_interval, seed_difference, seed_inte
 from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
 from realikea.files import atomic_write_text
-from realikea.reports.metrics import read_metrics
 from realikea.reports.phase_map import difference_table, read_cells
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
+from realikea.training.metrics import read_metrics
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

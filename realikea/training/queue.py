@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -22,6 +23,8 @@ from pathlib import Path
 
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE, atomic_write_text
+from realikea.policies.checkpoint import slim_checkpoint
+from realikea.training.metrics import join_launches
 
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
 
@@ -124,3 +127,20 @@ class RunQueue:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
         return 1 if failed else 0
+
+
+def keep_run(source: Path, target: Path, seconds: list[float]) -> Path:
+    """Copy a finished run's Hydra config, its metrics (launches joined), its last checkpoint
+    slimmed to what evaluation reads and the launches' wall times from `source` to `target`,
+    which appears whole or not at all."""
+    staging = target.with_name(target.name + ".partial")
+    shutil.rmtree(staging, ignore_errors=True)
+    shutil.copytree(source / ".hydra", staging / ".hydra")
+    metrics = (source / "metrics.csv").read_text().splitlines()
+    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
+    last = checkpoints(source)[-1][1]
+    slim_checkpoint(last, staging / last.name)
+    atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
+    shutil.rmtree(target, ignore_errors=True)
+    staging.rename(target)
+    return target

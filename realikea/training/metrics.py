@@ -1,4 +1,5 @@
-"""A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag."""
+"""A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag, and
+the rows of several launches of one run joined."""
 
 from __future__ import annotations
 

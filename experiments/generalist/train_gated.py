@@ -1,0 +1,73 @@
+"""Train the generalists of issue 32 on the gated reward, two at a time, resumable, and keep each
+finished run in experiments/generalist/<recipe>/s<seed>/ (slim last checkpoint, metrics, the
+launches' wall times, the Hydra config).
+
+    python experiments/generalist/train_gated.py                      # every run not yet kept
+    python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
+
+Recipes: `default` is `python train.py` (CoACD, normal, every category and kind, 1,500
+iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`.
+Each run gets one env worker (two side by side on the 2 cores). Then evaluate each kept
+checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its own geometry:
+`evaluate.py CHECKPOINT hull_high/s0_own collision=hull`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from realikea.files import WORKSPACE
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
+
+HERE = WORKSPACE / "experiments/generalist"
+WORK = WORKSPACE / "outputs/generalist"
+ITERATIONS = 1500  # the defaults' agent.max_iterations
+RECIPES = {"default": [], "hull_high": ["collision=hull", "resistance=high"]}
+
+
+def generalist_run(recipe: str, seed: int) -> QueuedRun:
+    overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1")
+    return QueuedRun(f"{recipe}_s{seed}", overrides, ITERATIONS)
+
+
+def kept_dir(run: QueuedRun) -> Path:
+    recipe, seed = run.name.rsplit("_", 1)
+    return HERE / recipe / seed
+
+
+def last_checkpoint(run: QueuedRun) -> str:
+    return f"model_{run.iterations - 1}.pt"
+
+
+def keep(run: QueuedRun, seconds: list[float]) -> Path:
+    return keep_run(WORK / run.name, kept_dir(run), seconds)
+
+
+def kept(run: QueuedRun) -> bool:
+    return (kept_dir(run) / last_checkpoint(run)).is_file()
+
+
+QUEUE = RunQueue(WORK, last_checkpoint, keep, kept)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--recipes", nargs="+", choices=list(RECIPES), default=list(RECIPES))
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
+    parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
+    parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    args = parser.parse_args()
+    if any(s < 0 for s in args.seeds):
+        parser.error(f"seeds must be >= 0, got {args.seeds}")
+    runs = [generalist_run(r, s) for s in args.seeds for r in args.recipes]
+    if args.dry_run:
+        for run in runs:
+            print(f"{QUEUE.state(run)}: " + " ".join(QUEUE.command(run)[1:]))
+        return 0
+    return QUEUE.run_all(runs, args.jobs)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
