@@ -7,9 +7,12 @@ import mujoco
 import numpy as np
 import pytest
 
+from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.policies.registry import make_policy
 from realikea.sim.scene import FRONT_BODY, FRONT_JOINT, HANDLE_SITE, build_scene, reset_home
+from realikea.tasks.open_task import OpenTask
 
 OPENED = {"slide": 0.20, "hinge": 0.785}  # the success thresholds of realikea/conf/task/open.yaml
 
@@ -117,3 +120,25 @@ def test_freestanding_keeps_the_old_layout(sample_library):
     np.testing.assert_allclose(data.body("link0").xpos, cfg.sim.robot.base_pos)
     assert data.body("cabinet/unit").xpos[2] == pytest.approx(cfg.scene.plinth_height.drawer)
     assert not _kitchen_geoms(model)
+
+
+@pytest.mark.parametrize("base", ["door_left_w60_h80", "door_right_w60_h80"])
+def test_both_wide_doors_open_past_success_with_a_pinch(tmp_path, base):
+    """The left-hinged door's arm starts from the mirror image of the home posture; from the
+    right-hinged door's, the pull ran wrists 5 and 6 into their limits at about 0.7 rad."""
+    cfg = load_config(
+        ["asset.part=tp_round_bar_128", f"asset.base={base}", "dr=fixed",
+         "policy=heuristic_pull", "resistance=smooth", f"paths.library={tmp_path}"],
+        "eval",
+    )  # fmt: skip
+    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
+    policy = make_policy(cfg)
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    result = None
+    for _ in range(task.horizon):
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            break
+    assert result.info["outcome"] == "success", (result.info["termination"], task.opening)
