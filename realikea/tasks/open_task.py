@@ -203,12 +203,10 @@ class OpenTask:
         s, d = self.state, self.data
         d1, d2 = self._targets()
         opening = self.opening
-        p = self.params
-        radius = getattr(p, "straddle_radius", None)  # None: the variant reads no grip
-        grip = NO_GRIP
-        if radius is not None:
+        p, grip = self.params, NO_GRIP
+        if self.reward.reads_grip:
             site, u = d.site_xpos[self._handle].tolist(), self.pull_direction().tolist()
-            grip = self.grip_sensor.read(d, site, u, radius, p.hook_cos)
+            grip = self.grip_sensor.read(d, site, u, p.straddle_radius, p.hook_cos)
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,

@@ -29,6 +29,8 @@ class Variant:
     next_stage: Callable[[int, StepValues, Any], int]
     # name -> (term, the params field that weighs it; None: the term carries its own weights)
     terms: Mapping[str, tuple[Callable[[StepValues, Any], float], str | None]]
+    reads_grip: bool  # whether its stages read the straddle and the contacts (params give
+    # straddle_radius and hook_cos); the task skips the contact scan otherwise
 
     def weighted_terms(self, v: StepValues, p) -> list[tuple[str, float]]:
         """(name, weighted and scaled value) of every term, in order."""
@@ -43,8 +45,10 @@ class Variant:
 
 
 VARIANTS = {
-    "appendix": Variant("appendix", appendix.AppendixParams, appendix.next_stage, appendix.TERMS),
-    "gated": Variant("gated", gated.GatedParams, gated.next_stage, gated.TERMS),
+    "appendix": Variant(
+        "appendix", appendix.AppendixParams, appendix.next_stage, appendix.TERMS, False
+    ),
+    "gated": Variant("gated", gated.GatedParams, gated.next_stage, gated.TERMS, True),
 }
 
 
