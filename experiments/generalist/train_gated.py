@@ -63,8 +63,7 @@ def main() -> int:
         parser.error(f"seeds must be >= 0, got {args.seeds}")
     runs = [generalist_run(r, s) for s in args.seeds for r in args.recipes]
     if args.dry_run:
-        for run in runs:
-            print(f"{QUEUE.state(run)}: " + " ".join(QUEUE.command(run)[1:]))
+        QUEUE.show(runs)
         return 0
     return QUEUE.run_all(runs, args.jobs)
 

@@ -108,8 +108,7 @@ def main() -> int:
     except ValueError as err:
         parser.error(str(err))
     if args.dry_run:
-        for run in runs:
-            print(f"{QUEUE.state(run)}: " + " ".join(QUEUE.command(run)[1:]))
+        QUEUE.show(runs)
         return 0
     return QUEUE.run_all(runs, args.jobs)
 

@@ -97,6 +97,11 @@ class RunQueue:
         atomic_write_text(self.work / f"{run.name}.pid", f"{proc.pid}\n")
         return proc
 
+    def show(self, runs: list[QueuedRun]) -> None:
+        """Print each run's state and the command a launch would run now (a dry run)."""
+        for run in runs:
+            print(f"{self.state(run)}: " + " ".join(self.command(run)[1:]))
+
     def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
         """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
         queue = [r for r in runs if not self.kept(r)]
