@@ -7,7 +7,7 @@ For each of the grid's 900-iteration runs (not the paper's schedule): whether it
 training success, averaged over 20 iterations, reached 0.5), and for those that did not the
 reward per step (Train/mean_reward / Train/mean_episode_length) and the mean opening over
 iterations 880-899; then how many of the first iterations finished no episode at all (no
-/episode/success logged). Prints markdown.
+/episode/success logged), and the range of the runs' median value loss. Prints markdown.
 """
 
 from __future__ import annotations
@@ -38,9 +38,10 @@ def main() -> None:
     args = parser.parse_args()
     runs = sorted(p for p in args.grid.iterdir()
                   if (p / "metrics.csv").is_file() and not p.name.startswith("paper_"))  # fmt: skip
-    rows, idle = [], 0
+    rows, idle, value_losses = [], 0, []
     for path in runs:
         series = read_metrics(path)
+        value_losses.append(float(np.median(series["Loss/value"][1])))
         idle += FIRST - len({i for i in series["/episode/success"][0] if i < FIRST})
         if iterations_to_success({"metrics": series}) is not None:
             continue
@@ -54,6 +55,7 @@ def main() -> None:
     for per_step, opening, name in sorted(rows):
         print(f"| {name} | {per_step:.1f} | {opening:.3f} |")
     print(f"\nIterations 0-{FIRST - 1}: {idle} of {FIRST * len(runs)} finished no episode.")
+    print(f"Median value loss of a run: {min(value_losses):.0f} to {max(value_losses):.0f}.")
 
 
 if __name__ == "__main__":
