@@ -90,10 +90,9 @@ class RunQueue:
     def _launch(self, run: QueuedRun) -> subprocess.Popen:
         self.work.mkdir(parents=True, exist_ok=True)
         log = (self.work / f"{run.name}.log").open("a")
-        print(f"start {run.name}: {' '.join(self.command(run)[1:])}", flush=True)
-        proc = subprocess.Popen(
-            self.command(run), cwd=WORKSPACE, stdout=log, stderr=subprocess.STDOUT
-        )
+        command = self.command(run)
+        print(f"start {run.name}: {' '.join(command[1:])}", flush=True)
+        proc = subprocess.Popen(command, cwd=WORKSPACE, stdout=log, stderr=subprocess.STDOUT)
         atomic_write_text(self.work / f"{run.name}.pid", f"{proc.pid}\n")
         return proc
 

@@ -17,38 +17,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 
-from realikea.tasks.rewards.terms import StepValues, approach, ik_failure_term, jerk_term
+from realikea.tasks.rewards.terms import (
+    StageParams,
+    StepValues,
+    approach,
+    ik_failure_term,
+    jerk_term,
+)
 
 
 @dataclass(frozen=True)
-class AppendixParams:
+class AppendixParams(StageParams):
     """The paper's appendix constants (stages, weights) plus the auxiliary cost weights."""
 
-    eps: float = 0.01
-    w_open1: float = 2.0
-    w_app1: float = 2.0
-    w_open2: float = 0.0
-    w_app2: float = 2.0
-    beta: float = 10.0
     kappa: float = 15.0
-    tau1: float = 0.05
     tau2: float = 0.02
-    open_above: float = 0.6
-    close_below: float = 0.4
-    w_jerk: float = 0.05
-    ik_cost: float = 1.0
-
-    @cached_property
-    def m1(self) -> float:
-        """Saturation of stage 1: open bonus plus the approach term at d1 = 0."""
-        return self.w_open1 + self.w_app1 * math.log(1.0 / self.eps)
-
-    @cached_property
-    def m2(self) -> float:
-        """Saturation of stage 2: approach term at d2 = 0 (no open bonus)."""
-        return self.w_open2 + self.w_app2 * math.log(1.0 / self.eps)
 
 
 def open_reward(q: float, kappa: float) -> float:

@@ -35,32 +35,28 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from realikea.errors import RealIkeaError
-from realikea.tasks.rewards.terms import StepValues, approach, ik_failure_term, jerk_term
+from realikea.tasks.rewards.terms import (
+    StageParams,
+    StepValues,
+    approach,
+    ik_failure_term,
+    jerk_term,
+)
 
 
 @dataclass(frozen=True)
-class GatedParams:
+class GatedParams(StageParams):
     """The gated variant's constants (`realikea/conf/task/reward/gated.yaml` explains each)."""
 
     scale: float = 0.01
-    eps: float = 0.01
-    w_open1: float = 2.0
-    w_app1: float = 2.0
     w_open2: float = 2.0
-    w_app2: float = 2.0
     w_close: float = 5.0
-    beta: float = 10.0
     w_hold: float = 2.0
     w_progress: float = 40.0
     success_bonus: float = 20.0
-    tau1: float = 0.05
     refine_radius: float = 0.11
     straddle_radius: float = 0.025
     hook_angle: float = 70.0
-    open_above: float = 0.6
-    close_below: float = 0.4
-    w_jerk: float = 0.05
-    ik_cost: float = 1.0
 
     def __post_init__(self):
         if self.beta < self.w_close:
@@ -73,16 +69,6 @@ class GatedParams:
     def hook_cos(self) -> float:
         """cos(hook_angle): a contact hooks when the part's normal there is this close to -u."""
         return math.cos(math.radians(self.hook_angle))
-
-    @cached_property
-    def m1(self) -> float:
-        """Stage 1's maximum: open jaws at t1."""
-        return self.w_open1 + self.w_app1 * math.log(1.0 / self.eps)
-
-    @cached_property
-    def m2(self) -> float:
-        """Stage 2's maximum above M1: open jaws at t2."""
-        return self.w_open2 + self.w_app2 * math.log(1.0 / self.eps)
 
 
 def next_stage(stage: int, v: StepValues, p: GatedParams) -> int:

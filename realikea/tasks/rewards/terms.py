@@ -9,6 +9,35 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
+
+
+@dataclass(frozen=True)
+class StageParams:
+    """The constants both variants' stages share (the paper's appendix values) and their
+    saturations M1 and M2; each variant adds its own."""
+
+    eps: float = 0.01
+    w_open1: float = 2.0
+    w_app1: float = 2.0
+    w_open2: float = 0.0
+    w_app2: float = 2.0
+    beta: float = 10.0
+    tau1: float = 0.05
+    open_above: float = 0.6
+    close_below: float = 0.4
+    w_jerk: float = 0.05
+    ik_cost: float = 1.0
+
+    @cached_property
+    def m1(self) -> float:
+        """Saturation of stage 1: open bonus plus the approach term at d1 = 0."""
+        return self.w_open1 + self.w_app1 * math.log(1.0 / self.eps)
+
+    @cached_property
+    def m2(self) -> float:
+        """Saturation of stage 2 above M1: its open bonus plus the approach term at d2 = 0."""
+        return self.w_open2 + self.w_app2 * math.log(1.0 / self.eps)
 
 
 @dataclass(frozen=True)
