@@ -63,3 +63,25 @@ def test_a_finished_run_is_kept_and_a_failed_one_is_not(tmp_path, monkeypatch, c
     assert q.run_all([RUN], jobs=1) == 0 and kept == [RUN.name]
     assert len(q.wall_times(RUN)) == 2 and q.state(RUN) == "kept"
     assert q.run_all([RUN], jobs=1) == 0 and "1 of 1 runs already kept" in capsys.readouterr().out
+
+
+def test_a_run_whose_outcome_is_decided_is_interrupted_and_kept(tmp_path, monkeypatch, capsys):
+    kept: list[str] = []
+    q = _queue(tmp_path, kept)
+    decided = tmp_path / "decided"
+    q.stop_early = lambda run: decided.is_file()
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.2)
+    run_dir = tmp_path / "work" / RUN.name
+    run_dir.mkdir(parents=True)
+    # the "training" writes a checkpoint, decides its outcome and would then run for a minute;
+    # on SIGINT it cleans up as train.py does (its finally closes the env pool)
+    script = (
+        f"import pathlib, time\nopen({str(run_dir / 'model_120.pt')!r}, 'w').close()\n"
+        f"pathlib.Path({str(decided)!r}).touch()\n"
+        f"try:\n    time.sleep(60)\nfinally:\n    open({str(run_dir / 'closed')!r}, 'w').close()\n"
+    )
+    monkeypatch.setattr(RunQueue, "command", lambda self, run: [sys.executable, "-c", script])
+    assert q.run_all([RUN], jobs=1) == 0 and kept == [RUN.name]
+    assert "stopped gated_hull_knob_smooth_s0 early" in capsys.readouterr().out
+    assert (run_dir / "closed").is_file() and (run_dir / queue.STOPPED_EARLY).is_file()
+    assert q.wall_times(RUN)[0] < 30 and q.finished(RUN)

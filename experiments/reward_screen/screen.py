@@ -7,7 +7,9 @@ experiments/reward_screen/runs/NAME/ (its Hydra config, metrics, slim last check
     python experiments/reward_screen/screen.py --dry-run        # the commands and their state
 
 Drawers in the kitchen, train parts, 400 iterations with fixed poses to 200 (then randomized),
-one env worker a run. NAME is <recipe>_<collision>_<cell>_s<seed>. The same command resumes a
+one env worker a run. NAME is <recipe>_<collision>_<cell>_s<seed>. A run stops once it has
+learned and holds it on randomized poses (`holds_after_switch`): its outcome is then decided, and
+the rest of its schedule would only refine the kept checkpoint. The same command resumes a
 stopped run from its last checkpoint (realikea/training/queue.py). The table and the curves:
 `python experiments/reward_screen/report.py`.
 """
@@ -19,13 +21,18 @@ import itertools
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from realikea.files import WORKSPACE
+from realikea.reports.fidelity_ablation import SUCCESS_WINDOW, trailing_mean
+from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 KEPT = WORKSPACE / "experiments/reward_screen/runs"
 WORK = WORKSPACE / "outputs/reward_screen"
 ITERATIONS = 400
 SWITCH = 200  # fixed poses before this iteration, randomized from it
+LEARNED = 0.5  # training success, averaged over SUCCESS_WINDOW iterations, that counts as learned
 # the cells where the appendix recipe died (the fidelity grid, 900 iterations: 0-2 of 6 runs
 # learned in each): (category, training resistance)
 CELLS = {
@@ -48,7 +55,7 @@ RECIPES = {
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",
-    f"agent.max_iterations={ITERATIONS}", "agent.save_interval=50", "dr=two_phase",
+    f"agent.max_iterations={ITERATIONS}", "agent.save_interval=10", "dr=two_phase",
     f"dr.switch_iteration={SWITCH}",
 ]  # fmt: skip
 
@@ -69,10 +76,24 @@ def keep(run: QueuedRun, seconds: list[float]) -> Path:
 
 
 def kept(run: QueuedRun) -> bool:
-    return (KEPT / run.name / last_checkpoint(run)).is_file()
+    return (KEPT / run.name / "wall.json").is_file()  # keep_run writes the folder whole
 
 
-QUEUE = RunQueue(WORK, last_checkpoint, keep, kept)
+def holds_after_switch(run: QueuedRun) -> bool:
+    """Whether the run's training success, averaged over SUCCESS_WINDOW iterations all on
+    randomized poses, has reached LEARNED: it has learned (the report's criterion) and holds it
+    off the fixed poses."""
+    metrics = WORK / run.name / "metrics.csv"
+    if not metrics.is_file():
+        return False
+    its, values = read_metrics(metrics.parent).get("/episode/success", ([], []))
+    by_iteration = dict(zip(its, values, strict=True))  # a resumed launch's rows replace earlier
+    randomized = sorted(it for it in by_iteration if it >= SWITCH)
+    _, means = trailing_mean(randomized, [by_iteration[it] for it in randomized], SUCCESS_WINDOW)
+    return bool(np.any(means >= LEARNED))
+
+
+QUEUE = RunQueue(WORK, last_checkpoint, keep, kept, stop_early=holds_after_switch)
 
 
 def planned(args: argparse.Namespace) -> list[QueuedRun]:

@@ -6,7 +6,10 @@ then kept: `keep(run, seconds)` copies what the experiment commits. A stopped ru
 no `done` file) continues from its last checkpoint (`train.resume=`) for the iterations it
 still lacks, appending to its metrics.csv. A run whose training process is alive (WORK/NAME.pid)
 is left to it, so two drivers never train the same run. Each launch's wall time is written to
-WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts.
+WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts. A run whose
+outcome is decided before its last iteration (`stop_early(run)`, checked at every poll) is
+interrupted (SIGINT: the trainer closes its env pool), marked finished (WORK/NAME/STOPPED_EARLY)
+and kept with its last checkpoint.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -27,6 +31,7 @@ from realikea.policies.checkpoint import slim_checkpoint
 from realikea.training.metrics import join_launches
 
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
+STOPPED_EARLY = "STOPPED_EARLY"  # in a run's folder: stopped by `stop_early`, finished as it is
 
 
 @dataclass(frozen=True)
@@ -41,13 +46,14 @@ class QueuedRun:
 @dataclass
 class RunQueue:
     """Where runs train (`work`), what marks one finished (`done(run)`: a file name in its run
-    directory), how a finished one is kept (`keep(run, launch seconds)` -> where) and whether
-    it is (`kept(run)`)."""
+    directory), how a finished one is kept (`keep(run, launch seconds)` -> where), whether it
+    is (`kept(run)`) and whether a running one may stop now (`stop_early(run)`)."""
 
     work: Path
     done: Callable[[QueuedRun], str]
     keep: Callable[[QueuedRun, list[float]], Path]
     kept: Callable[[QueuedRun], bool]
+    stop_early: Callable[[QueuedRun], bool] = lambda run: False
 
     def command(self, run: QueuedRun) -> list[str]:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
@@ -80,7 +86,8 @@ class RunQueue:
         return "stopped" if any((self.work / run.name).glob("model_*.pt")) else "new"
 
     def finished(self, run: QueuedRun) -> bool:
-        return (self.work / run.name / self.done(run)).is_file()
+        run_dir = self.work / run.name
+        return (run_dir / self.done(run)).is_file() or (run_dir / STOPPED_EARLY).is_file()
 
     def wall_times(self, run: QueuedRun) -> list[float]:
         """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
@@ -92,9 +99,17 @@ class RunQueue:
         log = (self.work / f"{run.name}.log").open("a")
         command = self.command(run)
         print(f"start {run.name}: {' '.join(command[1:])}", flush=True)
-        proc = subprocess.Popen(command, cwd=WORKSPACE, stdout=log, stderr=subprocess.STDOUT)
+        proc = subprocess.Popen(
+            command, cwd=WORKSPACE, stdout=log, stderr=subprocess.STDOUT, preexec_fn=_interruptible
+        )
         atomic_write_text(self.work / f"{run.name}.pid", f"{proc.pid}\n")
         return proc
+
+    def _interrupt(self, run: QueuedRun, proc: subprocess.Popen) -> None:
+        proc.send_signal(signal.SIGINT)
+        proc.wait()
+        atomic_write_text(self.work / run.name / STOPPED_EARLY, f"exit {proc.returncode}\n")
+        print(f"stopped {run.name} early: its outcome is decided", flush=True)
 
     def show(self, runs: list[QueuedRun]) -> None:
         """Print each run's state and the command a launch would run now (a dry run)."""
@@ -121,16 +136,26 @@ class RunQueue:
             for run, (proc, begin, earlier) in list(active.items()):
                 seconds = [*earlier, time.time() - begin]
                 atomic_write_text(self.work / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
+                stopped = False
                 if proc.poll() is None:
-                    continue
+                    if not self.stop_early(run):
+                        continue
+                    self._interrupt(run, proc)
+                    stopped = True
                 del active[run]
-                if proc.returncode == 0 and self.finished(run):
+                if self.finished(run) and (proc.returncode == 0 or stopped):
                     kept = self.keep(run, seconds)
                     print(f"kept {kept} ({seconds[-1] / 60:.1f} min)", flush=True)
                 else:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
         return 1 if failed else 0
+
+
+def _interruptible() -> None:
+    """In a launched run: SIGINT's default disposition, which a driver started in the background
+    (`&`, nohup) passes on as ignored, so Python turns SIGINT into KeyboardInterrupt."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def keep_run(source: Path, target: Path, seconds: list[float]) -> Path:
