@@ -7,7 +7,9 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
+import sysconfig
 import venv
+from pathlib import Path
 
 from realikea.files import WORKSPACE
 
@@ -24,9 +26,18 @@ def test_an_installed_wheel_builds_a_configuration_from_any_directory(tmp_path):
         check=True, capture_output=True,
     )  # fmt: skip
     (wheel,) = wheels.glob("realikea-*.whl")
-    env = tmp_path / "env"  # the dependencies come from this interpreter's site-packages
-    venv.EnvBuilder(system_site_packages=True, with_pip=False).create(env)
+    env = tmp_path / "env"
+    venv.EnvBuilder(with_pip=False).create(env)
     python = env / "bin" / "python"
+    # the dependencies come from this interpreter's environment, named in a path file:
+    # `system_site_packages` would give the base interpreter's, which inside a venv (setup.sh's
+    # .venv on an externally managed Python) is not where they are installed
+    env_site = subprocess.run(
+        [python, "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
+        check=True, capture_output=True, text=True,
+    ).stdout.strip()  # fmt: skip
+    ours = dict.fromkeys(sysconfig.get_path(k) for k in ("purelib", "platlib"))
+    (Path(env_site) / "dependencies.pth").write_text("\n".join(ours) + "\n")
     subprocess.run(
         [sys.executable, "-m", "pip", "--python", str(python), "install", "-q", "--no-deps",
          str(wheel)],
