@@ -32,7 +32,7 @@ SECTION_X = 1e-6  # m: the section plane, just off x = 0 so it does not run thro
 FULL_RADIUS_TOL = 5e-4  # m: a knob's profile within this of its largest radius is "full"
 # m: the least room a fingertip pad needs behind a feature (undercut under a knob's head, a
 # lip's drop below its channel's roof, the channel's width, the gap behind a bar). The pad sinks
-# about 0.9 mm into what it presses (realikea/sim/README.md), so under 2 mm it keeps less than
+# about 0.9 mm into what it presses (docs/task.md), so under 2 mm it keeps less than
 # 1 mm bearing behind the edge and rolls off it. The catalog's parts with a real head offer
 # 2.5 mm or more, the grooves of cylindrical knobs 0.6-1.5 mm.
 MIN_ROOM = 2e-3

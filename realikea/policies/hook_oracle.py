@@ -11,7 +11,7 @@ Two ways of catching the part, chosen by its category:
 
 * **loop** (two-point handles): the open jaws straddle the bar (one pad above, one below),
   advance until the pads are in the gap between the bar and the front, and close there. The
-  closed pads stick 8 mm out of the finger bodies (`realikea/sim/README.md`), so the jaws close
+  closed pads stick 8 mm out of the finger bodies (`docs/task.md`, "Franka Hand"), so the jaws close
   around the bar with the bodies clear of it and the pads' back faces behind it: pulling loads
   the bar with the pads' normal force along the opening direction, whatever the squeeze. A bar
   taller than the bodies' clearance gets a partial closure (the bodies still clear the bar).

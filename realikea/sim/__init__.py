@@ -1,1 +1,1 @@
-"""Robot model, scene building and IK controller (see realikea/sim/README.md)."""
+"""Robot model, scene building and IK controller (see docs/task.md)."""
