@@ -1,4 +1,5 @@
-"""Training logs: every scalar in metrics.csv, wandb offline without an account."""
+"""Training logs: every scalar in metrics.csv, wandb offline without an account, a progress bar
+of the iterations."""
 
 from __future__ import annotations
 
@@ -35,3 +36,16 @@ def test_wandb_backend_runs_offline(tmp_path, monkeypatch):
 def test_unknown_backend(tmp_path):
     with pytest.raises(ValueError, match="logger backend 'mlflow'"):
         RealIkeaLogWriter(str(tmp_path), backend="mlflow")
+
+
+def test_the_progress_bar_counts_iterations_not_the_seconds_of_time_tags(tmp_path, capsys):
+    writer = RealIkeaLogWriter(str(tmp_path), backend="none", iterations=3)
+    for it in range(3):
+        writer.add_scalar("/episode/success", 0.25 * it, it)
+        writer.add_scalar("Train/mean_reward", 1.0, it)
+        writer.add_scalar("Train/mean_reward/time", 1.0, 17 * it + 5)  # seconds, not iterations
+    assert writer._bar.n == 2  # the last iteration counts once it is complete
+    writer.stop()
+    assert writer._bar.n == 3
+    bar = capsys.readouterr().err
+    assert "3/3" in bar and "success=0.50" in bar and "reward=1.00" in bar

@@ -367,3 +367,10 @@ def test_an_unknown_reward_variant_fails_before_any_work(tmp_path):
     with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
         train(cfg, tmp_path / "run")
     assert not (tmp_path / "library").exists() and not (tmp_path / "run").exists()
+
+
+def test_an_unknown_console_fails_before_any_work(tmp_path):
+    cfg = load_config([*SMALL, f"paths.library={tmp_path / 'library'}", "train.console=tqdm"])
+    with pytest.raises(RealIkeaError, match="train.console=tqdm: use one of bar, report"):
+        train(cfg, tmp_path / "run")
+    assert not (tmp_path / "library").exists() and not (tmp_path / "run").exists()

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +44,7 @@ def runner_config(cfg: DictConfig) -> dict:
             "class_name": "realikea.training.log_writer:RealIkeaLogWriter",
             "backend": str(cfg.logger.backend),
             **({"project_name": str(cfg.logger.project)} if "project" in cfg.logger else {}),
+            **({"iterations": int(agent.max_iterations)} if cfg.train.console == "bar" else {}),
         },
         "check_for_nan": True,
     }
@@ -87,6 +90,23 @@ def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
         raise RealIkeaError(f"{path}: cannot be loaded as an rsl-rl checkpoint ({err})") from err
 
 
+CONSOLES = ("bar", "report")
+
+
+@contextlib.contextmanager
+def console(cfg: DictConfig, run_dir: Path) -> Iterator[None]:
+    """Where rsl-rl's per-iteration report goes: RUN/iterations.log under the progress bar
+    (`train.console=bar`), stdout otherwise."""
+    if cfg.train.console == "report":
+        yield
+        return
+    with (
+        (run_dir / "iterations.log").open("a", buffering=1) as log,
+        contextlib.redirect_stdout(log),
+    ):
+        yield
+
+
 def train(cfg: DictConfig, run_dir: Path) -> Path:
     """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
     run_dir = Path(run_dir)
@@ -94,6 +114,8 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     torch.manual_seed(int(cfg.env.seed))
     np.random.seed(int(cfg.env.seed))
     reward_from_config(OmegaConf.to_container(cfg.task.reward))  # a bad variant fails here
+    if cfg.train.console not in CONSOLES:
+        raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
         check_resumable(Path(cfg.train.resume), cfg)
     mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
@@ -110,10 +132,11 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         if cfg.train.resume:
             load_checkpoint(runner, Path(cfg.train.resume))
             env.set_iteration(runner.current_learning_iteration)
-        runner.learn(
-            int(cfg.agent.max_iterations),
-            init_at_random_ep_len=bool(cfg.agent.init_at_random_ep_len),
-        )
+        with console(cfg, run_dir):
+            runner.learn(
+                int(cfg.agent.max_iterations),
+                init_at_random_ep_len=bool(cfg.agent.init_at_random_ep_len),
+            )
     finally:
         pool.close()
     return run_dir / f"model_{runner.current_learning_iteration}.pt"
