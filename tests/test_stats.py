@@ -1,14 +1,20 @@
-"""Wilson and Newcombe intervals (realikea/eval/stats.py) against published values."""
+"""Wilson and Newcombe intervals (realikea/eval/stats.py) against published values; p-values
+that agree with them; Holm's correction."""
 
 from __future__ import annotations
+
+from statistics import NormalDist
 
 import pytest
 
 from realikea.eval.stats import (
     count,
     diff_interval,
+    diff_p,
+    holm,
     main,
     seed_difference,
+    seed_difference_p,
     seed_interval,
     significant,
     wilson,
@@ -66,3 +72,27 @@ def test_seed_difference_on_known_inputs():
         seed_difference([], [(1, 2)])
     with pytest.raises(ValueError):
         seed_interval([(3, 2)])
+
+
+def test_p_values_agree_with_the_intervals():
+    for k1, n1, k2, n2 in [(23, 50, 16, 50), (18, 50, 1, 50), (30, 50, 20, 50), (5, 20, 9, 20)]:
+        lo, hi = diff_interval(k1, n1, k2, n2)
+        assert (diff_p(k1, n1, k2, n2) < 0.05) == (lo > 0 or hi < 0)
+        # at the p-value's own level the interval just reaches zero
+        z = NormalDist().inv_cdf(1 - diff_p(k1, n1, k2, n2) / 2)
+        assert min(abs(x) for x in diff_interval(k1, n1, k2, n2, z)) < 1e-6
+    assert diff_p(10, 50, 10, 50) == 1.0
+    a, b = [(45, 50), (40, 50), (44, 50)], [(20, 50), (30, 50), (12, 50)]
+    _, lo, _ = seed_difference(a, b)
+    assert lo > 0 and seed_difference_p(a, b) < 0.05
+    a, b = [(45, 50), (5, 50)], [(30, 50), (20, 50)]
+    _, lo, hi = seed_difference(a, b)
+    assert lo < 0 < hi and seed_difference_p(a, b) > 0.05
+
+
+def test_holm_adjusts_step_down_and_keeps_the_order():
+    # sorted: 0.005 x 4, 0.01 x 3, 0.03 x 2, 0.04 x 1, each at least the one before
+    assert holm([0.01, 0.04, 0.03, 0.005]) == pytest.approx([0.03, 0.06, 0.06, 0.02])
+    assert holm([0.5, 0.9]) == [1.0, 1.0] and holm([]) == []
+    # one difference among many: significant alone, not in a family of 40
+    assert holm([0.01] + [0.5] * 39)[0] > 0.05

@@ -189,7 +189,7 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
     assert (run_dir / "sweep" / "sweep.png").stat().st_size > 10_000
     assert "most robust checkpoint: " in out and "**most robust**" in out
     table = (run_dir / "sweep" / "sweep.md").read_text()
-    assert "split test" in table  # held-out parts unless asset.split says otherwise
+    assert "split train" in table and "env.seed=2000" in table  # the validation draw
     lo, hi = wilson(round(float(rows[1].split(",")[7]) * 6), 6)  # mean S over 3 modes x 2
     assert f"[{lo:.2f}, {hi:.2f}]" in table.splitlines()[6]
     # rerun with the same overrides: every (checkpoint, mode) comes from results.jsonl
@@ -204,6 +204,18 @@ def test_a_committed_table_names_a_run_of_the_checkout_relative_to_it():
     run = WORKSPACE / "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
     assert shown_path(run) == "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
     assert shown_path(Path("/elsewhere/run")) == "/elsewhere/run"
+
+
+def test_a_sweep_on_the_test_parts_is_refused_before_any_work(run, capsys):
+    run_dir, library = run
+    before = sorted((run_dir / "sweep").glob("*")) if (run_dir / "sweep").is_dir() else None
+    for split in ("test", "all"):
+        args = [f"paths.library={library}", f"asset.split={split}"]
+        assert main(["eval", "sweep", str(run_dir), *args]) == 2
+        err = capsys.readouterr().err
+        assert f"asset.split={split}: a checkpoint sweep selects a policy" in err
+    after = sorted((run_dir / "sweep").glob("*")) if (run_dir / "sweep").is_dir() else None
+    assert after == before
 
 
 def test_sweep_without_checkpoints_is_a_clear_error(tmp_path, capsys):

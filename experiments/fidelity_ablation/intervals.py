@@ -1,6 +1,7 @@
 """95 % intervals for the cross-evaluation (cross_eval.md): each row's success as a Wilson
 interval and, per seed and evaluation preset, CoACD minus hull with Newcombe's interval
-(realikea/eval/stats.py); "not significant" where that interval includes zero.
+(realikea/eval/stats.py); "not significant" where that interval includes zero; then which
+differences stay significant with every row's counted at once (Holm's correction).
 
     python experiments/fidelity_ablation/intervals.py [cross_eval.md] [--episodes 50]
 """
@@ -11,6 +12,7 @@ import argparse
 from pathlib import Path
 
 from realikea.eval.stats import count, diff_interval, significant, wilson
+from realikea.reports.multiplicity import Difference, holm_lines
 
 HERE = Path(__file__).resolve().parent
 
@@ -38,6 +40,7 @@ def main() -> None:
     print()
     print("| seed | evaluated with | CoACD | hull | CoACD − hull | |")
     print("|---:|---|---|---|---|---|")
+    family = []
     for (collision, seed, preset), rate in rows.items():
         if collision != "coacd" or ("hull", seed, preset) not in rows:
             continue
@@ -50,6 +53,9 @@ def main() -> None:
             f"{k2 / n:.2f} [{l2:.2f}, {u2:.2f}] | {(k1 - k2) / n:+.2f} [{lo:+.2f}, {hi:+.2f}] "
             f"| {verdict} |"
         )
+        family.append(Difference(f"seed {seed}, {preset}", [(k1, n)], [(k2, n)]))
+    print()
+    print("\n".join(holm_lines(family, "Every row at once (Holm)")))
 
 
 if __name__ == "__main__":

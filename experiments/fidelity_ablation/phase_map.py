@@ -21,12 +21,14 @@ from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
+from realikea.reports.multiplicity import holm_lines
 from realikea.reports.phase_map import (
     CONES,
     FORCES,
     FRICTIONS,
     check_axes,
     difference_table,
+    differences,
     evaluate_phase_map,
     map_policy,
     phase_table,
@@ -62,6 +64,9 @@ def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) ->
         *phase_table(cells, pull),
         *difference_table(cells, *compare),
     ]
+    family = list(differences(cells, *compare).values())
+    if family:
+        lines += ["", *holm_lines(family, "Every compared cell at once (Holm)")]
     out = results.with_name("phase_map.md")
     atomic_write_text(out, "\n".join(lines))
     return out

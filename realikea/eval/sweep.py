@@ -1,7 +1,9 @@
 """`realikea eval sweep RUN_DIR`: every checkpoint of a run under the three resistance modes.
 
-The run's asset category and collision source are used unless the command line sets them; the
-parts are the held-out test split unless `asset.split` is set, as for `realikea eval`.
+The run's asset category and collision source are used unless the command line sets them. A
+sweep selects a checkpoint, so it runs on the validation draw: the train parts (`asset.split=
+train`) under `env.seed=2000` unless the command line sets them, and refuses the test parts
+(`asset.split=test` or `all`): what the test draw reports must not have chosen the policy.
 
 The appendix's policy selection: success and return against iteration per mode, and the most
 robust checkpoint (highest success averaged over the modes; ties broken by the smaller spread
@@ -21,10 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.config import load_config, override_key
+from realikea.assets.split import with_default_split
+from realikea.config import load_config, override_key, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import run_episodes
-from realikea.eval.setup import effective_config, eval_overrides_with_split
+from realikea.eval.setup import effective_config
 from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
 from realikea.files import atomic_path, atomic_write_text, repo_path, shown_path
@@ -33,6 +36,25 @@ from realikea.tasks.randomization import two_phase_switch
 
 MODES = ("smooth", "normal", "high")
 RESULTS = "results.jsonl"  # one line per (checkpoint, mode) evaluated, for resuming
+# the validation draw's seed: neither a training draw's (env.seed + i, small) nor the test
+# draw's (1000) every evaluation command of the experiments uses
+VALIDATION_SEED = 2000
+
+
+def validation_overrides(overrides: list[str]) -> list[str]:
+    """`overrides` on the validation draw (train parts, VALIDATION_SEED) unless they name the
+    split or seed; refused if they name the test parts."""
+    asked = with_default_split(overrides, "train")
+    split = next(o.split("=", 1)[1] for o in reversed(asked) if override_key(o) == "asset.split")
+    if split != "train":
+        raise RealIkeaError(
+            f"asset.split={split}: a checkpoint sweep selects a policy, so it may not look at "
+            "the test parts; sweep on the train parts (the default, with env.seed="
+            f"{VALIDATION_SEED}) and report the chosen checkpoint on the test draw"
+        )
+    if not overrides_set(asked, "env.seed"):
+        asked.append(f"env.seed={VALIDATION_SEED}")
+    return asked
 
 
 def checkpoint_iteration(name: str) -> int | None:
@@ -119,7 +141,7 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
         asset = run_cfg.asset
         inherited.append(f"asset={asset.category}")
         inherited += [f"asset.{k}={asset[k]}" for k in ("part", "base", "kind") if asset.get(k)]
-    asked = eval_overrides_with_split([*inherited, *rest])
+    asked = validation_overrides([*inherited, *rest])
     out = run / "sweep"
     out.mkdir(exist_ok=True)
     results = done_results(out / RESULTS, asked)

@@ -17,11 +17,12 @@ import numpy as np
 from omegaconf import OmegaConf
 
 from realikea.eval.commands import run_eval
-from realikea.eval.stats import count, diff_interval, seed_difference, seed_interval, wilson
+from realikea.eval.stats import count, seed_interval, wilson
 from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
 from realikea.files import atomic_write_text
-from realikea.reports.phase_map import difference_table, read_cells
+from realikea.reports.multiplicity import Difference, holm_lines
+from realikea.reports.phase_map import difference_table, differences, read_cells
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
 from realikea.training.metrics import read_metrics
@@ -32,6 +33,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 DEFAULT_OUT = "experiments/fidelity_ablation"
 MODES = ("smooth", "normal", "high")
 OUTCOMES = ("fail", "partial", "success")
+# the report's CoACD − hull tables, (evaluation modes, None = every mode; measure): the family
+# Holm's correction counts; success comes first, in its own table before the failure modes
+TESTED = ((None, "success"), (["high"], "slip"), (["high"], "hook"), (["high"], "form closure"))
 SUCCESS_WINDOW = 20  # iterations averaged for "training success reached 50 %" and the curves
 # iterations per window of the plateau check: the last ones against the ones before (issue 16
 # asks for iterations "enough that training success has plateaued")
@@ -257,15 +261,6 @@ def rate_interval(runs: list[tuple[int, int]]) -> tuple[float, float, float]:
     return seed_interval(runs)
 
 
-def difference_interval(a: list[tuple[int, int]], b: list[tuple[int, int]]):
-    """(difference, low, high) of two cells' success: Newcombe's interval for one run each,
-    else the bootstrap over seeds and episodes."""
-    if len(a) == 1 and len(b) == 1:
-        (k1, n1), (k2, n2) = a[0], b[0]
-        return (k1 / n1 - k2 / n2, *diff_interval(k1, n1, k2, n2))
-    return seed_difference(a, b)
-
-
 def interval_lines(
     cells: dict, by_cell: dict, variants, resistances, categories, modes
 ) -> list[str]:
@@ -316,13 +311,33 @@ def measured_runs(entry: dict, measure: str) -> list[tuple[int, int]] | None:
     return strategy_runs.get(measure)
 
 
+def paired_differences(
+    cells: dict, variants, resistances, categories, modes, measure: str = "success"
+) -> list[tuple[tuple[str, str, str, str], Difference]]:
+    """Every CoACD − hull (of the same preset) comparison of `measure` (success, the rate of a
+    failure mode or of a strategy label) the cells allow, per training resistance, category and
+    evaluation mode: ((coacd variant, resistance, category, mode), difference)."""
+    pairs = [(v, "hull" + v[5:]) for v in variants if v.startswith("coacd")]
+    out = []
+    for coacd, hull in pairs:
+        for res in resistances:
+            for category in categories:
+                a, b = cells.get((coacd, res, category), {}), cells.get((hull, res, category), {})
+                for m in modes:
+                    if m not in a or m not in b:
+                        continue
+                    runs_a, runs_b = measured_runs(a[m], measure), measured_runs(b[m], measure)
+                    if runs_a and runs_b:
+                        label = f"{measure}: {coacd} − hull, trained in {res}, {category}, in {m}"
+                        out.append(((coacd, res, category, m), Difference(label, runs_a, runs_b)))
+    return out
+
+
 def difference_lines(
     cells: dict, variants, resistances, categories, modes, measure: str = "success"
 ) -> list[str]:
-    """CoACD minus hull (of the same preset) of `measure` (success, the rate of a failure mode
-    or of a strategy label) per training resistance, category and evaluation mode, with its
-    interval and whether it excludes zero."""
-    pairs = [(v, "hull" + v[5:]) for v in variants if v.startswith("coacd")]
+    """CoACD minus hull of `measure` (`paired_differences`), with its interval and whether it
+    excludes zero."""
     title = "CoACD − hull" if measure == "success" else f"{measure.capitalize()} rate: CoACD − hull"
     lines = [
         f"## {title}",
@@ -334,23 +349,16 @@ def difference_lines(
         "| CoACD | trained on | category | evaluated in | CoACD | hull | CoACD − hull [95 %] | |",
         "|---|---|---|---|---:|---:|---|---|",
     ]
-    for coacd, hull in pairs:
-        for res in resistances:
-            for category in categories:
-                a, b = cells.get((coacd, res, category), {}), cells.get((hull, res, category), {})
-                for m in modes:
-                    if m not in a or m not in b:
-                        continue
-                    runs_a, runs_b = measured_runs(a[m], measure), measured_runs(b[m], measure)
-                    if not runs_a or not runs_b:
-                        continue
-                    d, lo, hi = difference_interval(runs_a, runs_b)
-                    verdict = "significant" if lo > 0 or hi < 0 else "not significant"
-                    mean_a, mean_b = (np.mean([k / n for k, n in r]) for r in (runs_a, runs_b))
-                    lines.append(
-                        f"| {coacd} | {res} | {category} | {m} | {mean_a:.2f} | {mean_b:.2f} | "
-                        f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
-                    )
+    for (coacd, res, category, m), diff in paired_differences(
+        cells, variants, resistances, categories, modes, measure
+    ):
+        d, lo, hi = diff.interval()
+        verdict = "significant" if lo > 0 or hi < 0 else "not significant"
+        mean_a, mean_b = (np.mean([k / n for k, n in r]) for r in (diff.a, diff.b))
+        lines.append(
+            f"| {coacd} | {res} | {category} | {m} | {mean_a:.2f} | {mean_b:.2f} | "
+            f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
+        )
     return lines
 
 
@@ -755,6 +763,9 @@ def phase_map_lines(maps: Sequence[Path], out: Path) -> list[str]:
             "",
             *difference_table(cells, "coacd", "hull"),
         ]
+        family = list(differences(cells, "coacd", "hull").values())
+        if family:
+            lines += ["", *holm_lines(family, "Every cell of this map at once (Holm)", "####")]
     return lines
 
 
@@ -772,6 +783,7 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
     categories = ordered({k[2] for k in cells}, ("knob", "finger_pull", "two_point"))
     modes = ordered({m for c in cells.values() for m in c}, MODES)
     totals = strategy_totals(cells, variants, categories)
+    axes = (cells, variants, resistances, categories)
     out.mkdir(parents=True, exist_ok=True)
     plot_success(cells, variants, resistances, categories, modes, out / "success.png")
     plot_outcomes(cells, variants, resistances, categories, modes, out / "outcomes.png")
@@ -801,11 +813,19 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
         "",
         *failure_lines(cells, variants, resistances, categories),
         "",
-        *difference_lines(cells, variants, resistances, categories, ["high"], "slip"),
-        "",
-        *difference_lines(cells, variants, resistances, categories, ["high"], "hook"),
-        "",
-        *difference_lines(cells, variants, resistances, categories, ["high"], "form closure"),
+        *[
+            line
+            for tested_modes, measure in TESTED[1:]
+            for line in [*difference_lines(*axes, tested_modes, measure), ""]
+        ],
+        *holm_lines(
+            [
+                diff
+                for tested_modes, measure in TESTED
+                for _, diff in paired_differences(*axes, tested_modes or modes, measure)
+            ],
+            "Every difference at once (Holm)",
+        ),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",

@@ -22,9 +22,10 @@ from realikea.assets.catalog import CATEGORIES, effective_split
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, evaluate
-from realikea.eval.stats import count, diff_interval
+from realikea.eval.stats import count
 from realikea.files import shown_path
 from realikea.policies.registry import POLICIES
+from realikea.reports.multiplicity import Difference
 
 # the axes' default values; their sources are in experiments/fidelity_ablation/phase_map.md
 FORCES = (5.0, 10.0, 20.0, 40.0, 70.0)  # N per jaw
@@ -220,23 +221,35 @@ def phase_table(cells: dict[tuple, dict], pull: float) -> list[str]:
     return lines
 
 
+def differences(cells: dict[tuple, dict], first: str, second: str) -> dict[tuple, Difference]:
+    """(category, cone, force, friction) -> `first` − `second` success in that cell, for every
+    cell both policies were evaluated in: the family of the map's comparisons."""
+    out = {}
+    for (policy, category, cone, force, mu), a in cells.items():
+        b = cells.get((second, category, cone, force, mu))
+        if policy != first or b is None:
+            continue
+        label = f"{first} − {second}, {category}, {cone} cones, {force:g} N, μ {mu:g}"
+        runs = [[(count(c["success"], c["episodes"]), c["episodes"])] for c in (a, b)]
+        out[category, cone, force, mu] = Difference(label, *runs)
+    return out
+
+
 def difference_table(cells: dict[tuple, dict], first: str, second: str) -> list[str]:
     """Markdown: `first` − `second` success per category and cone over force x friction, with
     Newcombe's 95 % interval; ** where it excludes zero. Empty unless both policies are there."""
+    compared = differences(cells, first, second)
     lines = []
     for policy, category, cone in _groups(cells):
         if policy != first or (second, category, cone) not in _groups(cells):
             continue
 
         def entry(force, mu, category=category, cone=cone):
-            a = cells.get((first, category, cone, force, mu))
-            b = cells.get((second, category, cone, force, mu))
-            if a is None or b is None:
+            diff = compared.get((category, cone, force, mu))
+            if diff is None:
                 return ""
-            k1, n1 = count(a["success"], a["episodes"]), a["episodes"]
-            k2, n2 = count(b["success"], b["episodes"]), b["episodes"]
-            low, high = diff_interval(k1, n1, k2, n2)
-            text = f"{k1 / n1 - k2 / n2:+.2f} [{low:+.2f}, {high:+.2f}]"
+            d, low, high = diff.interval()
+            text = f"{d:+.2f} [{low:+.2f}, {high:+.2f}]"
             return f"**{text}**" if low > 0 or high < 0 else text
 
         title = (
