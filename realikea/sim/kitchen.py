@@ -2,7 +2,7 @@
 
 The configuration's own carcass and front stay as built; the run is added to its root body
 (`unit`), so base pose randomization moves the whole run with it. Dimensions come from
-`realikea/conf/scene/kitchen.yaml` (sources in the README's "Kitchen scene"). Every box collides: a
+`realikea/conf/scene/kitchen.yaml` (sources in docs/task.md, "Kitchen scene"). Every box collides: a
 policy can no longer squeeze a front's free edge or hook over its top, because in a kitchen a
 neighbouring front or the worktop stands 3 mm away.
 
