@@ -34,7 +34,7 @@ from realikea.tasks.open_task import ACTION_SIZE
 from realikea.tasks.recording import EpisodeSteps, RecordingTask
 
 ROBOT_TYPE = "panda"
-ACTION_NAMES = ("pitch", "dx", "dy", "dz", "gripper")  # a0 .. a4 (docs/evaluation.md: Teleoperation)
+ACTION_NAMES = ("pitch", "dx", "dy", "dz", "gripper")  # a0 .. a4 (docs/evaluation.md)
 # the words an instruction uses for a part's category
 PART_WORDS = {"knob": "knob", "two_point": "two-point handle", "finger_pull": "finger pull"}
 # what the episodes table keeps of an episode's record, beside the configuration
