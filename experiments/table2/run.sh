@@ -23,7 +23,7 @@ for kind in drawer door; do
   done
 done
 # sensitivity of the friction-based pull to the grip force, on drawers (not a calibration: see
-# README.md)
+# experiments/table2/README.md)
 for force in 5 10 20; do
   start=$SECONDS
   realikea eval table gripper=franka_hand contact=elliptic gripper.grasp_force="$force" \
