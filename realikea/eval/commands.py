@@ -21,7 +21,7 @@ from realikea.eval.runs import rerun
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.sweep import run_sweep
 from realikea.eval.table import run_table
-from realikea.eval.video import record_strategies
+from realikea.eval.video import VIDEO_BY, record_episodes
 from realikea.tasks.open_task import OpenTask
 from realikea.tasks.recording import RecordingTask
 
@@ -71,6 +71,8 @@ def run_eval(args: argparse.Namespace) -> int:
     writes the episodes as a LeRobot dataset (a teleop session's demonstration, replayed)."""
     cfg, policy = eval_setup(args.overrides)
     record = recording_target(cfg)  # a bad folder stops here, before any episode runs
+    if cfg.video and cfg.video_by not in VIDEO_BY:
+        raise RealIkeaError(f"video_by={cfg.video_by}: use one of {', '.join(VIDEO_BY)}")
     if hasattr(policy, "run_interactive"):  # e.g. teleop: one env in-process, in a viewer
         if record is not None and getattr(policy, "record", None) is None:
             raise RealIkeaError(
@@ -96,8 +98,9 @@ def run_eval(args: argparse.Namespace) -> int:
         paths = training_configurations(cfg, int(cfg.video_episodes), int(cfg.env.seed))
         tasks = [OpenTask(cfg, p, int(cfg.env.seed) + i) for i, p in enumerate(paths)]
         stem = Path(cfg.video_path or "outputs/eval.mp4")
-        for label, path in record_strategies(tasks, policy, int(cfg.video_episodes), stem).items():
-            print(f"video ({label}): {path}")
+        recorded = record_episodes(tasks, policy, int(cfg.video_episodes), stem, cfg.video_by)
+        for key, path in recorded.items():
+            print(f"video ({key}): {path}")
     if record is not None:
         print(f"LeRobot dataset: {write_recording(result, cfg, record)}")
     print(json.dumps({**result.summary(), "split": split}))

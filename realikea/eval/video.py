@@ -74,13 +74,22 @@ def write_strip(frames: list, path: Path, count: int = 4) -> Path:
     return path
 
 
-def record_strategies(
-    tasks: list[OpenTask], policy, episodes: int, stem: Path, size=(384, 512)
+VIDEO_BY = ("strategy", "outcome")  # what one recorded episode stands for (`video_by`)
+
+
+def record_episodes(
+    tasks: list[OpenTask], policy, episodes: int, stem: Path, by: str = "strategy", size=(384, 512)
 ) -> dict[str, Path]:
-    """Run up to `episodes` episodes (cycling over `tasks`) and write one episode of each
-    strategy label, its first success if there is one, else its first episode, to
-    `<stem>_<strategy>_<outcome>.mp4` with a PNG strip of four of its frames next to it;
-    returns label -> MP4 path. Each frame is `size` (height, width) per view, two views."""
+    """Run up to `episodes` episodes (cycling over `tasks`) and write MP4s with a PNG strip of
+    four of their frames next to each; returns key -> MP4 path. Each frame is `size` (height,
+    width) per view, two views.
+
+    by="strategy": one episode of each strategy label, its first success if there is one, else
+    its first episode, to `<stem>_<strategy>_<outcome>.mp4`. by="outcome": the first success and
+    the first failure (fail or partial), to `<stem>_<outcome>_<strategy>.mp4`, stopping once
+    both are written."""
+    if by not in VIDEO_BY:
+        raise ValueError(f"video_by={by}: use one of {', '.join(VIDEO_BY)}")
     written: dict[str, Path] = {}
     stem = Path(stem)
     for k in range(episodes):
@@ -88,13 +97,20 @@ def record_strategies(
         with mujoco.Renderer(task.model, *size) as renderer:
             frames, info = episode_frames(task, policy, renderer)
         label, outcome = info.get("strategy", "episode"), info.get("outcome", "fail")
-        kept = written.get(label)
-        if kept is not None and (kept.stem.endswith("_success") or outcome != "success"):
+        if by == "outcome":
+            key, name = ("success" if outcome == "success" else "failure"), f"{outcome}_{label}"
+        else:
+            key, name = label, f"{label}_{outcome}"
+        kept = written.get(key)
+        replaces = by == "strategy" and outcome == "success"  # a label's first success
+        if kept is not None and not (replaces and not kept.stem.endswith("_success")):
             continue
-        path = write_mp4(frames, stem.with_name(f"{stem.stem}_{label}_{outcome}.mp4"))
+        path = write_mp4(frames, stem.with_name(f"{stem.stem}_{name}.mp4"))
         write_strip(frames, path.with_suffix(".png"))
         if kept is not None:  # a failure of this label, now replaced by a success
             kept.unlink()
             kept.with_suffix(".png").unlink()
-        written[label] = path
+        written[key] = path
+        if by == "outcome" and len(written) == 2:
+            break
     return written
