@@ -8,6 +8,7 @@ import sys
 from realikea.assets import commands as asset_commands
 from realikea.errors import RealIkeaError
 from realikea.eval import commands as eval_commands
+from realikea.export import commands as export_commands
 from realikea.fidelity import commands as fidelity_commands
 from realikea.training import commands as training_commands
 
@@ -18,7 +19,10 @@ def build_parser() -> argparse.ArgumentParser:
     groups = parser.add_subparsers(
         dest="group", required=True, metavar="{assets,fidelity,train,eval}"
     )
-    asset_commands.register(groups.add_parser("assets", help="build and inspect the asset library"))
+    assets = asset_commands.register(
+        groups.add_parser("assets", help="build, inspect and export the asset library")
+    )
+    export_commands.register(assets)
     fidelity_commands.register(
         groups.add_parser("fidelity", help="collision-mesh fidelity metric and reports")
     )

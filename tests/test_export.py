@@ -15,10 +15,10 @@ import pytest
 from conftest import EXPORT_SAMPLE
 from pxr import Usd, UsdGeom, UsdPhysics
 
-from realikea.assets.export import driver
-from realikea.assets.export.driver import export_configurations, export_folder
 from realikea.cli import main
 from realikea.errors import RealIkeaError
+from realikea.export import driver
+from realikea.export.driver import export_configurations, export_folder
 from realikea.files import repo_path
 
 REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
@@ -399,6 +399,6 @@ def test_an_out_that_is_a_file_is_refused(export_library, tmp_path, capsys):
 
 
 def test_the_cli_offers_exactly_the_formats_the_driver_exports():
-    from realikea.assets.export import FORMATS
+    from realikea.export import FORMATS
 
     assert tuple(driver.EXPORTERS) == FORMATS

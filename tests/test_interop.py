@@ -9,8 +9,8 @@ import json
 import pytest
 from conftest import build_sample
 
-from realikea.assets.export.driver import export_configurations, export_folder
-from realikea.assets.export.model import read_articulation
+from realikea.export.driver import export_configurations, export_folder
+from realikea.export.model import read_articulation
 from realikea.interop import probe
 from realikea.interop.parity import OPENS, SECONDS, STILL, ProbeParity, compare_pull
 from realikea.interop.pull import breakaway_force, mujoco_pull, pybullet_pull

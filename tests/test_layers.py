@@ -17,7 +17,9 @@ PACKAGE = Path(realikea.__file__).parent
 LAYERS = (
     ("errors", "files", "spawn", "config", "provenance"),
     ("sim",),
-    ("assets", "tasks", "fidelity", "datasets"),
+    ("assets", "tasks", "datasets"),
+    ("fidelity",),  # measures the built library's meshes
+    ("export",),  # writes the library with each part's fidelity certificate
     ("interop",),
     ("pool",),
     ("policies",),

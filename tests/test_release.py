@@ -13,16 +13,16 @@ import shutil
 import pytest
 import yaml
 
-from realikea.assets.export import FORMATS, SOURCES, release
-from realikea.assets.export.driver import export_folder
-from realikea.assets.export.release import (
+from realikea.cli import main
+from realikea.errors import RealIkeaError
+from realikea.export import FORMATS, SOURCES, release
+from realikea.export.driver import export_folder
+from realikea.export.release import (
     CARD,
     MANIFEST,
     catalog_counts,
     release_library,
 )
-from realikea.cli import main
-from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]

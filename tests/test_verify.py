@@ -10,11 +10,11 @@ import shutil
 import pytest
 from pxr import Usd
 
-from realikea.assets.export import FORMATS, SOURCES, release
-from realikea.assets.export.driver import export_configurations, export_folder
-from realikea.assets.export.release import MANIFEST, VERIFICATION, release_library
-from realikea.assets.export.verify import verify_folder, verify_release
 from realikea.cli import main
+from realikea.export import FORMATS, SOURCES, release
+from realikea.export.driver import export_configurations, export_folder
+from realikea.export.release import MANIFEST, VERIFICATION, release_library
+from realikea.export.verify import verify_folder, verify_release
 
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 

@@ -4,7 +4,7 @@
 
 A sample of six configurations (two per kind, every category twice) is built in high and smooth
 resistance into a scratch library (`--work`, a temporary folder by default; part meshes come from
-the project's cache) and exported to URDF with `realikea/assets/export`. Each is pulled at its
+the project's cache) and exported to URDF with `realikea/export`. Each is pulled at its
 handle with 0.5x, 1.2x and 2x its breakaway force for 1 s in both simulators (same pull, same
 2 ms step, gravity on). Every two-point part on `drawer_w60_h20`, plus the sample's door, is then
 probed with the Franka Hand's 9 mm fingertip in both simulators with both collision sources. Last,
@@ -25,11 +25,11 @@ from pathlib import Path
 
 from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, Configuration
-from realikea.assets.export.driver import export_configurations, export_folder
-from realikea.assets.export.metadata import resistance_modes
-from realikea.assets.export.model import read_articulation
 from realikea.assets.library import load_model
 from realikea.config import load_config
+from realikea.export.driver import export_configurations, export_folder
+from realikea.export.metadata import resistance_modes
+from realikea.export.model import read_articulation
 from realikea.files import repo_path
 from realikea.interop import probe
 from realikea.interop.parity import (

@@ -34,8 +34,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import parity  # noqa: E402  (experiments/interop/parity.py: the sample and its preparation)
 
-from realikea.assets.export.metadata import PART_LINK  # noqa: E402
-from realikea.assets.export.model import read_articulation  # noqa: E402
+from realikea.export.metadata import PART_LINK  # noqa: E402
+from realikea.export.model import read_articulation  # noqa: E402
 from realikea.files import repo_path  # noqa: E402
 from realikea.interop.parity import SECONDS, compare_pull  # noqa: E402
 from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction  # noqa: E402

@@ -5,7 +5,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from realikea.assets.export.model import Articulation, link_mesh_files
+from realikea.export.model import Articulation, link_mesh_files
 
 RESISTANCE_SCHEMA = (
     "MJCF <joint damping frictionloss/> as built (slide: N s/m and N; hinge: N m s/rad and N m), "

@@ -32,7 +32,7 @@ import numpy as np
 import trimesh
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdShade, Vt
 
-from realikea.assets.export.model import Articulation, Joint, Link, Shape, quat_wxyz
+from realikea.export.model import Articulation, Joint, Link, Shape, quat_wxyz
 
 RESISTANCE_SCHEMA = (
     "UsdPhysics DriveAPI:<linear|angular> (type force, stiffness 0, targetVelocity 0) "

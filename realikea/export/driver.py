@@ -18,14 +18,14 @@ from pathlib import Path
 from tqdm import tqdm
 
 from realikea.assets.catalog import Configuration, content_hash
-from realikea.assets.export import SOURCES, mjcf, urdf, usd
-from realikea.assets.export.metadata import (
+from realikea.errors import RealIkeaError
+from realikea.export import SOURCES, mjcf, urdf, usd
+from realikea.export.metadata import (
     PART_LINK,
     configuration_metadata,
     resistance_modes,
 )
-from realikea.assets.export.model import Articulation, read_articulation
-from realikea.errors import RealIkeaError
+from realikea.export.model import Articulation, read_articulation
 from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, report_rows
 from realikea.files import repo_path, shown_path, staging_dir
 

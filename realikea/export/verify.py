@@ -29,11 +29,11 @@ import pybullet
 from pxr import Usd, UsdPhysics
 from tqdm import tqdm
 
-from realikea.assets.export import FORMATS, SOURCES
-from realikea.assets.export.metadata import PART_LINK
-from realikea.assets.export.model import JOINT_TYPES
-from realikea.assets.export.release import MANIFEST, VERIFICATION, sha256_file
 from realikea.errors import RealIkeaError
+from realikea.export import FORMATS, SOURCES
+from realikea.export.metadata import PART_LINK
+from realikea.export.model import JOINT_TYPES
+from realikea.export.release import MANIFEST, VERIFICATION, sha256_file
 from realikea.files import atomic_write_text
 from realikea.provenance import package_versions
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from realikea.assets.export.model import Articulation, Link, link_mesh_files
+from realikea.export.model import Articulation, Link, link_mesh_files
 
 URDF_JOINT = {"slide": "prismatic", "hinge": "revolute"}
 # URDF requires an effort and a velocity limit on a moving joint; nothing drives this one (a

@@ -22,16 +22,16 @@ from pathlib import Path
 from tqdm import tqdm
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog, Configuration
-from realikea.assets.export import FORMATS, SOURCES
-from realikea.assets.export.driver import (
+from realikea.errors import RealIkeaError
+from realikea.export import FORMATS, SOURCES
+from realikea.export.driver import (
     EXPORT_VERSION,
     LISTED,
     check_request,
     export_configurations,
     export_folder,
 )
-from realikea.assets.export.metadata import resistance_modes
-from realikea.errors import RealIkeaError
+from realikea.export.metadata import resistance_modes
 from realikea.files import CATALOG_DIR, atomic_path, atomic_write_text, repo_path
 
 CARD = "DATASET.md"  # the dataset card, at the repository root and in every release

@@ -19,7 +19,7 @@ from omegaconf import OmegaConf
 from realikea.assets.build import Resistance
 from realikea.assets.catalog import Configuration
 from realikea.assets.catch_geometry import BarCatch, LipCatch, NoCatch, catch_features_at
-from realikea.assets.export.model import Articulation, quat_wxyz
+from realikea.export.model import Articulation, quat_wxyz
 from realikea.files import CONF_DIR
 from realikea.sim.resistance import handle_resistance, lever_arm
 from realikea.sim.robot import PAD_HALF
