@@ -12,7 +12,7 @@ import mujoco
 import numpy as np
 import pybullet
 
-from realikea.assets.export.metadata import PART_LINK
+from realikea.export.metadata import PART_LINK
 from realikea.interop import pybullet_sim
 from realikea.sim.robot import PAD_HALF
 

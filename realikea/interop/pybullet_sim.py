@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 import pybullet
 
-from realikea.assets.export.metadata import PART_LINK
 from realikea.assets.library import FRONT_JOINT
 from realikea.errors import RealIkeaError
+from realikea.export.metadata import PART_LINK
 
 GRAVITY = (0.0, 0.0, -9.81)  # MuJoCo's default, which the built MJCFs keep; cabinet frame +z up
 PYBULLET_BODY_DAMPING = 0.04  # PyBullet's default linear and angular damping of a multibody
