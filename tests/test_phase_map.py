@@ -8,7 +8,7 @@ from realikea.errors import RealIkeaError
 from realikea.files import WORKSPACE
 from realikea.reports.phase_map import (
     boundary_force,
-    difference_table,
+    difference_grid_lines,
     evaluate_phase_map,
     map_policy,
     phase_table,
@@ -82,10 +82,10 @@ def test_the_difference_table_bolds_only_intervals_that_exclude_zero():
         [cell("coacd", 70.0, 1.0), cell("hull", 70.0, 0.2), cell("coacd", 5.0, 0.5),
          cell("hull", 5.0, 0.45), cell("grasp_sampler", 5.0, 0.0)]
     )  # fmt: skip
-    lines = difference_table(cells, "coacd", "hull")
+    lines = difference_grid_lines(cells, "coacd", "hull")
     assert lines[0].startswith("**coacd − hull, two_point, elliptic cones**")
     (strong,) = [x for x in lines if x.startswith("| 70 N |")]
     (weak,) = [x for x in lines if x.startswith("| 5 N |")]
     assert strong.startswith("| 70 N | **+0.80 [+") and "**" not in weak
     assert weak.startswith("| 5 N | +0.05 [-")
-    assert difference_table(cells, "hull", "policy_not_mapped") == []
+    assert difference_grid_lines(cells, "hull", "policy_not_mapped") == []

@@ -27,7 +27,7 @@ from realikea.reports.phase_map import (
     FORCES,
     FRICTIONS,
     check_axes,
-    difference_table,
+    difference_grid_lines,
     differences,
     evaluate_phase_map,
     map_policy,
@@ -62,7 +62,7 @@ def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) ->
         "",
         SOURCES.read_text(),
         *phase_table(cells, pull),
-        *difference_table(cells, *compare),
+        *difference_grid_lines(cells, *compare),
     ]
     family = list(differences(cells, *compare).values())
     if family:

@@ -15,7 +15,7 @@ from realikea.eval.stats import describe, diff_interval, significant
 from realikea.files import atomic_write_text
 from realikea.reports.generalist import (
     MODES,
-    difference_table,
+    difference_markdown,
     pooled,
     read_cells,
     success_table,
@@ -41,7 +41,7 @@ COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
 
 def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> list[str]:
     """Per-cell and pooled differences of two grids (a − b) with Newcombe's interval."""
-    lines = [f"## {title}", "", difference_table(a, b, names), ""]
+    lines = [f"## {title}", "", difference_markdown(a, b, names), ""]
     for mode in MODES:
         (k1, n1), (k2, n2) = pooled(a, mode), pooled(b, mode)
         if n1 and n2:

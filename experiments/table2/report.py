@@ -20,9 +20,9 @@ from omegaconf import OmegaConf  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
 from realikea.files import CONF_DIR  # noqa: E402
+from realikea.sim.resistance import MODES  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-MODES = ("smooth", "normal", "high")
 CATEGORIES = ("knob", "finger_pull", "two_point")
 KINDS = ("drawer", "door")
 FRICTION_BASED = ("heuristic_pull", "grasp_sampler")

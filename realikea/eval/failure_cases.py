@@ -24,7 +24,7 @@ from realikea.policies.scripted import CLOSE, OPEN, Waypoint, WaypointPolicy
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_MODES
 
-AGREEMENT = 0.9  # issue 16's bar for the classifier on these cases
+AGREEMENT = 0.9  # the classifier's required agreement with these cases' built-in outcome
 
 
 class PressBeside(WaypointPolicy):

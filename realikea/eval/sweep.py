@@ -32,9 +32,9 @@ from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
 from realikea.files import atomic_path, atomic_write_text, repo_path, shown_path
 from realikea.pool.env_pool import EnvPool
+from realikea.sim.resistance import MODES
 from realikea.tasks.randomization import two_phase_switch
 
-MODES = ("smooth", "normal", "high")
 RESULTS = "results.jsonl"  # one line per (checkpoint, mode) evaluated, for resuming
 # the validation draw's seed: neither a training draw's (env.seed + i, small) nor the test
 # draw's (1000) every evaluation command of the experiments uses

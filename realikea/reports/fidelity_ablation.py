@@ -22,8 +22,10 @@ from realikea.eval.sweep import checkpoint_iteration
 from realikea.eval.table import CONTACT_STATS
 from realikea.files import atomic_write_text
 from realikea.reports.multiplicity import Difference, holm_lines
-from realikea.reports.phase_map import difference_table, differences, read_cells
+from realikea.reports.phase_map import difference_grid_lines, differences, read_cells
+from realikea.sim.resistance import MODES
 from realikea.tasks.failure_modes import FAILURE_MODES
+from realikea.tasks.outcome import OUTCOMES
 from realikea.tasks.randomization import two_phase_switch
 from realikea.training.metrics import read_metrics
 
@@ -31,14 +33,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 DEFAULT_OUT = "experiments/fidelity_ablation"
-MODES = ("smooth", "normal", "high")
-OUTCOMES = ("fail", "partial", "success")
 # the report's CoACD − hull tables, (evaluation modes, None = every mode; measure): the family
 # Holm's correction counts; success comes first, in its own table before the failure modes
 TESTED = ((None, "success"), (["high"], "slip"), (["high"], "hook"), (["high"], "form closure"))
 SUCCESS_WINDOW = 20  # iterations averaged for "training success reached 50 %" and the curves
-# iterations per window of the plateau check: the last ones against the ones before (issue 16
-# asks for iterations "enough that training success has plateaued")
+# iterations per window of the plateau check (training success over the last window against
+# the one before): a grid run should train until its success has plateaued
 PLATEAU_WINDOW = 100
 SEED_STYLES = ("-", "--", ":", "-.")
 OUTCOME_COLOURS = {"fail": "tab:red", "partial": "tab:orange", "success": "tab:green"}
@@ -761,7 +761,7 @@ def phase_map_lines(maps: Sequence[Path], out: Path) -> list[str]:
             "",
             f"![{folder.name}]({_rel(folder / 'phase_map.png', out)})",
             "",
-            *difference_table(cells, "coacd", "hull"),
+            *difference_grid_lines(cells, "coacd", "hull"),
         ]
         family = list(differences(cells, "coacd", "hull").values())
         if family:

@@ -3,7 +3,7 @@
 `evaluate_grid` runs `realikea eval` (its own setup: the checkpoint's run groups, the strategy
 classifier) once per cell and appends the cell's JSON line to a results file as it goes, so an
 interrupted grid continues where it stopped. `success_table` turns a results file into the table
-with Wilson intervals, `difference_table` two of them (CoACD, hull) into the difference per cell
+with Wilson intervals, `difference_markdown` two of them (CoACD, hull) into the difference per cell
 with Newcombe's interval.
 """
 
@@ -17,10 +17,10 @@ from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.files import shown_path
+from realikea.sim.resistance import MODES
 from realikea.tasks.outcome import OUTCOMES
 
 KINDS = tuple(BASE_KINDS)  # drawer, door, flap
-MODES = ("smooth", "normal", "high")
 
 
 def cell_overrides(
@@ -133,7 +133,7 @@ def success_table(cells: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def difference_table(cells: dict, other: dict, names=("CoACD", "hull")) -> str:
+def difference_markdown(cells: dict, other: dict, names=("CoACD", "hull")) -> str:
     """Both successes and their difference (Newcombe 95 %) per kind x category in each mode."""
     a, b = names
     lines = [

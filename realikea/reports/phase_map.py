@@ -235,7 +235,7 @@ def differences(cells: dict[tuple, dict], first: str, second: str) -> dict[tuple
     return out
 
 
-def difference_table(cells: dict[tuple, dict], first: str, second: str) -> list[str]:
+def difference_grid_lines(cells: dict[tuple, dict], first: str, second: str) -> list[str]:
     """Markdown: `first` − `second` success per category and cone over force x friction, with
     Newcombe's 95 % interval; ** where it excludes zero. Empty unless both policies are there."""
     compared = differences(cells, first, second)

@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+# the resistance modes (realikea/conf/resistance/<name>.yaml), mildest first
+MODES = ("smooth", "normal", "high")
+
 
 def lever_arm(anchor, axis, point) -> float:
     """Distance (m) from `point` to the line through `anchor` along `axis`."""

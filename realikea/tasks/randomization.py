@@ -10,7 +10,7 @@ from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
 
-MODES = ("fixed", "randomized", "two_phase")
+POSE_MODES = ("fixed", "randomized", "two_phase")
 
 
 @dataclass(frozen=True)
@@ -25,8 +25,8 @@ class Randomization:
 
     @classmethod
     def from_config(cls, dr: DictConfig) -> Randomization:
-        if dr.mode not in MODES:
-            raise RealIkeaError(f"dr.mode={dr.mode!r}: use one of {', '.join(MODES)}")
+        if dr.mode not in POSE_MODES:
+            raise RealIkeaError(f"dr.mode={dr.mode!r}: use one of {', '.join(POSE_MODES)}")
         return cls(
             str(dr.mode),
             int(dr.switch_iteration),
