@@ -25,7 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from realikea.files import WORKSPACE, atomic_write_text  # noqa: E402
-from realikea.reports.fidelity_ablation import (  # noqa: E402
+from realikea.reports.fidelity_ablation.runs import (  # noqa: E402
     SUCCESS_WINDOW,
     iterations_to_success,
     trailing_mean,
@@ -98,28 +98,41 @@ def table(runs: list[dict]) -> str:
     return out
 
 
+# the curves: tag, axis label, y range, the line across (learned; success on a drawer)
+CURVES = (
+    ("/episode/success", "training success", (-0.02, 1.02), 0.5),
+    ("/episode/opening", "mean opening (m)", (-0.01, 0.5), 0.20),
+)
+
+
 def plot(runs: list[dict], path: Path) -> None:
-    """Training success (20-iteration mean) against iteration: a panel per recipe and cell."""
+    """Training success and mean opening (20-iteration means) against iteration: a column per
+    recipe and cell, so a run that did not learn shows how far it pulled."""
     panels = sorted({(r["recipe"], r["cell"]) for r in runs})
     cols = min(4, len(panels))
     rows = -(-len(panels) // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4 * cols, 2.8 * rows), squeeze=False,
-                             sharey=True)  # fmt: skip
+    fig, axes = plt.subplots(len(CURVES) * rows, cols, figsize=(4 * cols, 2.6 * len(CURVES) * rows),
+                             squeeze=False, sharex=True)  # fmt: skip
     colours = {"coacd": "tab:blue", "hull": "tab:orange"}
-    for ax, (recipe, cell) in zip(axes.flat, panels, strict=False):
-        for run in sorted(runs, key=lambda r: (r["collision"], r["seed"])):
-            if (run["recipe"], run["cell"]) != (recipe, cell):
-                continue
-            its, values = run["metrics"].get("/episode/success", ([], []))
-            its, values = trailing_mean(its, values, SUCCESS_WINDOW)
-            ax.plot(its, values, color=colours[run["collision"]], lw=0.9, alpha=0.8,
-                    label=run["collision"])  # fmt: skip
-        ax.axhline(0.5, color="grey", lw=0.6, ls=":")
-        ax.set(title=f"{recipe}: {cell}", ylim=(-0.02, 1.02), xlabel="iteration")
-        ax.grid(alpha=0.3)
-    for ax in axes.flat[len(panels) :]:
-        ax.axis("off")
-    axes[0, 0].set_ylabel("training success")
+    for i, (recipe, cell) in enumerate(panels):
+        for k, (tag, label, ylim, line) in enumerate(CURVES):
+            ax = axes[len(CURVES) * (i // cols) + k, i % cols]
+            for run in sorted(runs, key=lambda r: (r["collision"], r["seed"])):
+                if (run["recipe"], run["cell"]) != (recipe, cell):
+                    continue
+                its, values = trailing_mean(*run["metrics"].get(tag, ([], [])), SUCCESS_WINDOW)
+                ax.plot(its, values, color=colours[run["collision"]], lw=0.9, alpha=0.8,
+                        label=run["collision"])  # fmt: skip
+            ax.axhline(line, color="grey", lw=0.6, ls=":")
+            ax.set(ylim=ylim, ylabel=label if i % cols == 0 else None)
+            ax.grid(alpha=0.3)
+            if k == 0:
+                ax.set_title(f"{recipe}: {cell}")
+            if k == len(CURVES) - 1:
+                ax.set_xlabel("iteration")
+    for i in range(len(panels), rows * cols):
+        for k in range(len(CURVES)):
+            axes[len(CURVES) * (i // cols) + k, i % cols].axis("off")
     handles = {}  # label -> line, over every panel
     for ax in axes.flat:
         lines, labels = ax.get_legend_handles_labels()
