@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
+import re
 import shutil
 import subprocess
 import sys
@@ -19,10 +20,26 @@ from hydra.core.override_parser.overrides_parser import OverridesParser
 from omegaconf import OmegaConf
 
 from realikea.config import load_config
+from realikea.errors import RealIkeaError
 from realikea.eval.runs import eval_overrides
 from realikea.eval.stats import diff_interval, seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
-from realikea.reports import fidelity_ablation
+from realikea.reports.fidelity_ablation import videos
+from realikea.reports.fidelity_ablation.cells import aggregate, measured_runs, variant
+from realikea.reports.fidelity_ablation.runs import (
+    _trained_iterations,
+    command_overrides,
+    iterations_to_success,
+    last_windows,
+    schedule,
+    trailing_mean,
+)
+from realikea.reports.fidelity_ablation.tables import (
+    compute_lines,
+    difference_lines,
+    failure_lines,
+    interval_lines,
+)
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
@@ -246,17 +263,18 @@ def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_p
 
 
 def test_a_phase_map_without_its_figure_or_cells_is_refused_before_anything_is_written(
-    sweep, tmp_path
+    sweep, tmp_path, capsys
 ):
     fake_phase_map(tmp_path / "map", coacd_success=0.5, hull_success=0.5)
     (tmp_path / "map" / "phase_map.png").unlink()
     out = tmp_path / "report"
-    with pytest.raises(SystemExit, match="not a phase map.*phase_map.png"):
-        script().main([str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")])
+    args = [str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")]
+    assert script().main(args) == 2
+    assert re.search("error: not a phase map.*phase_map.png", capsys.readouterr().err)
     (tmp_path / "map" / "phase_map.png").write_bytes(b"")
     (tmp_path / "map" / "cells.jsonl").write_text("")
-    with pytest.raises(SystemExit, match="phase map without cells"):
-        script().main([str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")])
+    assert script().main(args) == 2
+    assert "error: phase map without cells" in capsys.readouterr().err
     assert not out.exists()
 
 
@@ -266,7 +284,7 @@ def test_the_interval_table_counts_the_seeds_that_learned():
     never = {"metrics": {"/episode/success": (its, [0.0] * 100)}}
     key = ("coacd", "high", "two_point")
     cells = {key: {"high": {"runs": [(45, 50), (0, 50)], "seeds": 2}}}
-    lines = fidelity_ablation.interval_lines(
+    lines = interval_lines(
         cells, {key: [learned, never]}, ["coacd"], ["high"], ["two_point"], ["high"]
     )
     assert lines[-1].startswith("| coacd | high | two_point | 2 | 1 | 0.45 [")
@@ -282,10 +300,10 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
         ("hull", "high", "two_point"): {"high": hull},
     }
     args = (cells, ["coacd", "hull"], ["high"], ["two_point"])
-    table = fidelity_ablation.failure_lines(*args)
+    table = failure_lines(*args)
     mean, lo, hi = seed_interval(slipping)
     assert table[-1].startswith(f"| hull | high | two_point | {mean:.2f} [{lo:.2f}, {hi:.2f}] |")
-    slip = fidelity_ablation.difference_lines(*args, ["high"], "slip")
+    slip = difference_lines(*args, ["high"], "slip")
     assert slip[0] == "## Slip rate: CoACD − hull"
     d, lo, hi = seed_difference(seeds, slipping)
     assert slip[-1] == (
@@ -294,7 +312,7 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     )
     assert hi < 0
     # success differs by nothing: the same table of success says so
-    same = fidelity_ablation.difference_lines(*args, ["high"])
+    same = difference_lines(*args, ["high"])
     assert same[-1].endswith("| not significant |")
 
 
@@ -306,11 +324,11 @@ def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(
                 "iterations": 1500, "switch": 900, "resistance": "high",
                 "category": "two_point", "eval": {"modes": {"high": entry}}}  # fmt: skip
 
-    cells, _ = fidelity_ablation.aggregate([run("coacd", 0.36), run("hull", 0.02)])
+    cells, _ = aggregate([run("coacd", 0.36), run("hull", 0.02)])
     coacd = cells["coacd", "high", "two_point"]["high"]
     assert coacd["strategy_runs"]["hook"] == [(18, 50)] and coacd["strategies"]["hook"] == 0.36
     args = (cells, ["coacd", "hull"], ["high"], ["two_point"], ["high"])
-    hook = fidelity_ablation.difference_lines(*args, "hook")
+    hook = difference_lines(*args, "hook")
     assert hook[0] == "## Hook rate: CoACD − hull"
     lo, hi = diff_interval(18, 50, 1, 50)  # one seed a side: Newcombe's interval
     assert hook[-1] == (
@@ -328,11 +346,11 @@ def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
                 "category": "knob", "eval": {"modes": {"high": entry}}}  # fmt: skip
 
     runs = [run("coacd", 0.0, 0.56), run("hull", 0.04, 0.10)]
-    cells, _ = fidelity_ablation.aggregate(runs)
+    cells, _ = aggregate(runs)
     hull = cells["hull", "normal", "knob"]["high"]
-    assert fidelity_ablation.measured_runs(hull, "form closure") == [(7, 50)]
+    assert measured_runs(hull, "form closure") == [(7, 50)]
     args = (cells, ["coacd", "hull"], ["normal"], ["knob"], ["high"])
-    closure = fidelity_ablation.difference_lines(*args, "form closure")
+    closure = difference_lines(*args, "form closure")
     assert closure[0] == "## Form closure rate: CoACD − hull"
     lo, hi = diff_interval(28, 50, 7, 50)
     assert closure[-1] == (
@@ -340,7 +358,7 @@ def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
         "| significant |"
     )
     # a cell evaluated before strategy labels existed has no form-closure rate
-    assert fidelity_ablation.measured_runs({"runs": [(50, 50)]}, "form closure") is None
+    assert measured_runs({"runs": [(50, 50)]}, "form closure") is None
 
 
 def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path, monkeypatch):
@@ -357,12 +375,16 @@ def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path
     }
     recorded = {**run, "dir": tmp_path / "recorded", "strips": [tmp_path / "eval_hook_success.png"]}
     calls = []
-    monkeypatch.setattr(fidelity_ablation, "run_eval", lambda args: calls.append(args.overrides))
-    fidelity_ablation.record_videos([recorded, run], episodes=8)
+    monkeypatch.setattr(
+        videos, "evaluate_and_record", lambda overrides, stem: calls.append(overrides)
+    )
+    videos.record_videos([recorded, run], episodes=8)
     (overrides,) = calls  # the run with strips already is not recorded again
     assert f"policy.path={(run_dir / 'model_899.pt').resolve()}" in overrides
     assert trained_at not in overrides and "episodes=50" not in overrides
-    assert "episodes=8" in overrides and "video=true" in overrides
+    assert overrides[:2] == ["asset=two_point", "resistance=high"] and "episodes=8" in overrides
+    with pytest.raises(RealIkeaError, match="not a `realikea eval` command"):
+        command_overrides("python eval.py asset=two_point")
 
 
 def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
@@ -371,13 +393,11 @@ def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
                 "iterations": iterations, "switch": switch}  # fmt: skip
 
     grid, paper = run("coacd", 900, 300), run("hull", 1500, 900)
-    assert fidelity_ablation.variant(grid, presets=1) == "coacd"  # one schedule: no tag
-    assert fidelity_ablation.variant(grid, 1, schedules=2) == "coacd (900 its, switch 300)"
-    assert fidelity_ablation.variant(paper, 1, 2) == "hull (1500 its, switch 900)"
-    assert fidelity_ablation.variant(paper, 2, 2) == (
-        "hull (franka_hand, elliptic; 1500 its, switch 900)"
-    )
-    assert fidelity_ablation.schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
+    assert variant(grid, presets=1) == "coacd"  # one schedule: no tag
+    assert variant(grid, 1, schedules=2) == "coacd (900 its, switch 300)"
+    assert variant(paper, 1, 2) == "hull (1500 its, switch 900)"
+    assert variant(paper, 2, 2) == ("hull (franka_hand, elliptic; 1500 its, switch 900)")
+    assert schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
     # the switch is read from the run's dr: only a two-phase schedule has one
     assert two_phase_switch({"mode": "two_phase", "switch_iteration": 900}) == 900
     assert two_phase_switch({"mode": "randomized", "switch_iteration": 900}) is None
@@ -385,35 +405,34 @@ def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
 
 
 def test_the_curves_average_a_trailing_window_of_iterations():
-    its, means = fidelity_ablation.trailing_mean([2, 0, 1, 3], [1.0, 0.0, 0.0, 1.0], window=2)
+    its, means = trailing_mean([2, 0, 1, 3], [1.0, 0.0, 0.0, 1.0], window=2)
     assert its.tolist() == [1, 2, 3] and means.tolist() == [0.0, 0.5, 1.0]  # sorted by iteration
-    its, means = fidelity_ablation.trailing_mean([0], [1.0], window=2)
+    its, means = trailing_mean([0], [1.0], window=2)
     assert len(its) == len(means) == 0  # no full window yet
 
 
 def test_iterations_to_success_is_the_first_window_reaching_the_level():
-    module = fidelity_ablation
     its = list(range(100))
     values = [0.0] * 40 + [1.0] * 60
     run = {"metrics": {"/episode/success": (its, values)}}
     # the 20 iterations from 35 hold 15 successes (0.75), those from 34 only 14
-    assert module.iterations_to_success(run, level=0.75, window=20) == 35
-    assert module.iterations_to_success(run, level=1.0, window=20) == 40
+    assert iterations_to_success(run, level=0.75, window=20) == 35
+    assert iterations_to_success(run, level=1.0, window=20) == 40
     never = {"metrics": {"/episode/success": (its, [0.4] * 100)}}
-    assert module.iterations_to_success(never) is None
-    assert module.iterations_to_success({"metrics": {}}) is None
+    assert iterations_to_success(never) is None
+    assert iterations_to_success({"metrics": {}}) is None
 
 
 def test_the_plateau_check_compares_the_last_window_with_the_one_before():
     its = list(range(300))
     climbing = {"metrics": {"/episode/success": (its, [0.0] * 100 + [0.2] * 100 + [0.5] * 100)}}
-    mean, change = fidelity_ablation.last_windows(climbing, "/episode/success", window=100)
+    mean, change = last_windows(climbing, "/episode/success", window=100)
     assert mean == pytest.approx(0.5) and change == pytest.approx(0.3)  # still climbing
     flat = {"metrics": {"/episode/success": (its, [0.9] * 300)}}
-    assert fidelity_ablation.last_windows(flat, "/episode/success") == pytest.approx((0.9, 0.0))
+    assert last_windows(flat, "/episode/success") == pytest.approx((0.9, 0.0))
     short = {"metrics": {"/episode/success": ([0, 1], [0.0, 1.0])}}
-    assert fidelity_ablation.last_windows(short, "/episode/success") == (0.5, None)  # no before
-    assert fidelity_ablation.last_windows({"metrics": {}}, "/episode/partial") == (None, None)
+    assert last_windows(short, "/episode/success") == (0.5, None)  # no before
+    assert last_windows({"metrics": {}}, "/episode/partial") == (None, None)
 
 
 @pytest.mark.slow
@@ -444,12 +463,12 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
 
 
 def test_compute_counts_a_resumed_runs_iterations_and_every_launchs_wall_time(tmp_path):
-    assert fidelity_ablation._trained_iterations({"checkpoint": "model_899.pt"}, 301) == 900
-    assert fidelity_ablation._trained_iterations({}, 301) == 301  # no checkpoint named
+    assert _trained_iterations({"checkpoint": "model_899.pt"}, 301) == 900
+    assert _trained_iterations({}, 301) == 301  # no checkpoint named
     resumed = {"dir": tmp_path / "resumed", "iterations": 900, "launch_iterations": 301,
                "num_envs": 64, "eval": {"train_seconds": 602.0, "eval_seconds": 120.0},
                "wall": [3000.0, 1800.0]}  # fmt: skip
-    lines = fidelity_ablation.compute_lines([resumed], tmp_path)
+    lines = compute_lines([resumed], tmp_path)
     (row,) = [x for x in lines if x.startswith("| resumed |")]
     assert row == "| resumed | 900 | 64 | 301 | 10.0 | 2.00 | 2.0 | 80.0 |"
     assert lines[-1] == "Total compute (sum over runs; wall time where recorded): 1.33 h."

@@ -168,14 +168,14 @@ def test_a_sweep_over_a_group_value_that_does_not_exist_fails_before_writing(tmp
 
 
 def test_the_report_names_runs_without_eval_json_and_refuses_an_empty_root(tmp_path, capsys):
-    from realikea.reports.fidelity_ablation import report
+    from realikea.reports.fidelity_ablation.report import report
 
     (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra").mkdir(parents=True)
     (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra" / "config.yaml").write_text("a: 1\n")
-    with pytest.raises(SystemExit, match="no finished runs"):
+    with pytest.raises(RealIkeaError, match="no finished runs"):
         report([tmp_path / "runs"], tmp_path / "out")
     assert "no eval.json yet" in capsys.readouterr().err
-    with pytest.raises(SystemExit, match="no such directory"):
+    with pytest.raises(RealIkeaError, match="no such directory"):
         report([tmp_path / "missing"], tmp_path / "out")
     assert not (tmp_path / "out").exists()
 

@@ -7,12 +7,12 @@ python experiments/fidelity_ablation/report.py [ROOT ...] [--out DIR] [--record-
 ROOT defaults to outputs/fidelity_ablation (all sweeps in it); runs are found at any depth.
 Cells are (collision source, training resistance, category) per gripper/contact preset;
 seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation),
-success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` runs
-`realikea eval ... video=true episodes=N` once per run not yet recorded (under its training
-resistance, N = --video-episodes, 8), which writes the first MP4 (and a PNG strip of four frames)
-of each strategy label into RUN/videos/; the report shows every
-RUN/videos/*.png strip it finds and names the MP4 beside it. Each `--phase-maps` directory
-(written by phase_map.py) adds its heat maps and CoACD − hull differences. Issue 16's report:
+success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` does
+what `realikea eval ... video=true episodes=N` does once per run not yet recorded (under its
+training resistance, N = --video-episodes, 8), which writes the first MP4 (and a PNG strip of four
+frames) of each strategy label into RUN/videos/; the report shows every RUN/videos/*.png strip it
+finds and names the MP4 beside it. Each `--phase-maps` directory (written by phase_map.py) adds
+its heat maps and CoACD − hull differences. The committed report:
 
     python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/grid \
         --phase-maps experiments/fidelity_ablation/phase_map{,_paper,_paper_s1,_paper_s2}
@@ -24,8 +24,13 @@ import argparse
 import sys
 from pathlib import Path
 
+from realikea.errors import RealIkeaError
 from realikea.files import repo_path
-from realikea.reports.fidelity_ablation import DEFAULT_OUT, find_runs, record_videos, report
+from realikea.reports.fidelity_ablation.report import report
+from realikea.reports.fidelity_ablation.runs import find_runs
+from realikea.reports.fidelity_ablation.videos import record_videos
+
+DEFAULT_OUT = "experiments/fidelity_ablation"  # the committed report, beside this script
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -40,9 +45,13 @@ def main(argv: list[str] | None = None) -> int:
         "--phase-maps", nargs="*", type=Path, default=[], help="phase_map.py output directories"
     )
     args = parser.parse_args(argv)
-    if args.record_videos:
-        record_videos(find_runs(args.roots), args.video_episodes)
-    path = report(args.roots, args.out, args.phase_maps)
+    try:
+        if args.record_videos:
+            record_videos(find_runs(args.roots), args.video_episodes)
+        path = report(args.roots, args.out, args.phase_maps)
+    except RealIkeaError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
     print(f"report: {path}")
     return 0
 

@@ -1,0 +1,128 @@
+"""The report: finished runs and phase maps assembled into report.md beside its figures."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from realikea.errors import RealIkeaError
+from realikea.files import atomic_write_text
+from realikea.reports.fidelity_ablation.cells import (
+    aggregate,
+    ordered,
+    paired_differences,
+    strategy_totals,
+)
+from realikea.reports.fidelity_ablation.phase_maps import phase_map_lines
+from realikea.reports.fidelity_ablation.plots import (
+    plot_learning_curves,
+    plot_outcomes,
+    plot_strategies,
+    plot_success,
+)
+from realikea.reports.fidelity_ablation.runs import find_runs, unfinished_runs
+from realikea.reports.fidelity_ablation.tables import (
+    compute_lines,
+    difference_lines,
+    failure_lines,
+    interval_lines,
+    outcome_tables,
+    per_run_lines,
+    relative,
+    strategy_lines,
+)
+from realikea.reports.fidelity_ablation.videos import frame_lines
+from realikea.reports.multiplicity import holm_lines
+from realikea.sim.resistance import MODES
+
+# the report's CoACD − hull tables, (evaluation modes, None = every mode; measure): the family
+# Holm's correction counts; success comes first, in its own table before the failure modes
+TESTED = ((None, "success"), (["high"], "slip"), (["high"], "hook"), (["high"], "form closure"))
+
+
+def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Path:
+    """Write out/report.md and its figures from the finished runs under `roots` and the phase
+    maps; returns the report's path."""
+    runs = find_runs(roots)
+    unfinished = unfinished_runs(roots)
+    for run in unfinished:
+        print(f"not in the report (no eval.json yet): {run}", file=sys.stderr)
+    if not runs:
+        raise RealIkeaError(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
+    maps = phase_map_lines(phase_maps, out)  # checked before anything is written
+    cells, by_cell = aggregate(runs)
+    variants = ordered({k[0] for k in cells}, ("coacd", "hull"))
+    resistances = ordered({k[1] for k in cells}, MODES)
+    categories = ordered({k[2] for k in cells}, ("knob", "finger_pull", "two_point"))
+    modes = ordered({m for c in cells.values() for m in c}, MODES)
+    totals = strategy_totals(cells, variants, categories)
+    axes = (cells, variants, resistances, categories)
+    out.mkdir(parents=True, exist_ok=True)
+    plot_success(cells, variants, resistances, categories, modes, out / "success.png")
+    plot_outcomes(cells, variants, resistances, categories, modes, out / "outcomes.png")
+    plot_strategies(totals, variants, categories, out / "strategies.png")
+    plot_learning_curves(by_cell, variants, resistances, categories, out / "learning_curves.png")
+    presets = sorted({(r["gripper"], r["contact"]) for r in runs})
+    episodes = sorted({r["eval"]["episodes"] for r in runs})
+    splits = sorted({r["eval"].get("split", "all") for r in runs})
+    scenes = sorted({r["scene"] for r in runs})
+    seeds = sorted({r["seed"] for r in runs})
+    root = roots[0] if len(roots) == 1 else Path.cwd()
+    lines = [
+        "# Fidelity ablation",
+        "",
+        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; scene "
+        f"{', '.join(scenes)}; evaluation split {'/'.join(splits)}; "
+        f"gripper/contact presets: {', '.join('/'.join(p) for p in presets)}; "
+        f"training seeds {', '.join(map(str, seeds))}; "
+        f"{'/'.join(map(str, episodes))} evaluation episodes per run and mode "
+        "(`train.eval_after`, the last checkpoint).",
+        "",
+        "![success](success.png)",
+        "",
+        *interval_lines(cells, by_cell, variants, resistances, categories, modes),
+        "",
+        *difference_lines(cells, variants, resistances, categories, modes),
+        "",
+        *failure_lines(cells, variants, resistances, categories),
+        "",
+        *[
+            line
+            for tested_modes, measure in TESTED[1:]
+            for line in [*difference_lines(*axes, tested_modes, measure), ""]
+        ],
+        *holm_lines(
+            [
+                diff
+                for tested_modes, measure in TESTED
+                for _, diff in paired_differences(*axes, tested_modes or modes, measure)
+            ],
+            "Every difference at once (Holm)",
+        ),
+        "",
+        *outcome_tables(cells, variants, resistances, categories, modes),
+        "",
+        "![outcomes](outcomes.png)",
+        "",
+        *strategy_lines(cells, totals, variants, categories),
+        "",
+        "![strategies](strategies.png)",
+        "",
+        "## Learning curves",
+        "",
+        "![learning curves](learning_curves.png)",
+        "",
+        *per_run_lines(runs, root),
+        "",
+        *compute_lines(runs, root),
+    ]
+    if unfinished:
+        lines += [
+            "",
+            "Not counted (no eval.json yet): " + ", ".join(relative(r, root) for r in unfinished),
+        ]
+    lines += ["", *maps, "", *frame_lines(runs, out)]
+    path = out / "report.md"
+    atomic_write_text(path, "\n".join(lines) + "\n")
+    return path
