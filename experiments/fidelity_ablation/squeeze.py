@@ -27,6 +27,7 @@ from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.eval.table import cell_row
 from realikea.files import atomic_write_text, shown_path
+from realikea.reports.fidelity_ablation.runs import command_overrides
 
 GRIP = 4  # the action's gripper command (open_task.apply_action): -1 closed, +1 open
 
@@ -57,7 +58,7 @@ def run_overrides(run: Path, resistance: str, episodes: int) -> list[str]:
     modes = json.loads(path.read_text())["modes"]
     if resistance not in modes:
         raise RealIkeaError(f"{run}: evaluated in {', '.join(modes)}, not {resistance}")
-    tokens = modes[resistance]["command"].split()[2:]
+    tokens = command_overrides(modes[resistance]["command"])
     return [t for t in tokens if not t.startswith("episodes=")] + [f"episodes={episodes}"]
 
 

@@ -12,7 +12,6 @@ import json
 from pathlib import Path
 
 from realikea.assets.catalog import effective_split
-from realikea.assets.library import training_configurations
 from realikea.errors import RealIkeaError
 from realikea.eval.failure_cases import validate
 from realikea.eval.protocol import outcome_table
@@ -21,7 +20,7 @@ from realikea.eval.runs import rerun
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.sweep import run_sweep
 from realikea.eval.table import run_table
-from realikea.eval.video import VIDEO_BY, record_episodes
+from realikea.eval.video import VIDEO_BY, record_draw
 from realikea.tasks.open_task import OpenTask
 from realikea.tasks.recording import RecordingTask
 
@@ -95,12 +94,7 @@ def run_eval(args: argparse.Namespace) -> int:
     for note, n in result.summary().get("policy_notes", {}).items():  # failures with a reason
         print(f"no motion planned in {n} episode(s): {note}")
     if cfg.video:
-        paths = training_configurations(cfg, int(cfg.video_episodes), int(cfg.env.seed))
-        tasks = [OpenTask(cfg, p, int(cfg.env.seed) + i) for i, p in enumerate(paths)]
-        stem = Path(cfg.video_path or "outputs/eval.mp4")
-        recorded = record_episodes(tasks, policy, int(cfg.video_episodes), stem, cfg.video_by)
-        for key, path in recorded.items():
-            print(f"video ({key}): {path}")
+        record_draw(cfg, policy, Path(cfg.video_path or "outputs/eval.mp4"))
     if record is not None:
         print(f"LeRobot dataset: {write_recording(result, cfg, record)}")
     print(json.dumps({**result.summary(), "split": split}))

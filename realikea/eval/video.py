@@ -9,6 +9,7 @@ import imageio.v2 as imageio
 import mujoco
 import numpy as np
 
+from realikea.assets.library import training_configurations
 from realikea.files import atomic_path
 from realikea.tasks.open_task import OpenTask
 
@@ -114,3 +115,16 @@ def record_episodes(
         if by == "outcome" and len(written) == 2:
             break
     return written
+
+
+def record_draw(cfg, policy, stem: Path) -> dict[str, Path]:
+    """`record_episodes` on the configured draw: `cfg.video_episodes` configurations drawn as
+    the evaluation draws them (`cfg.env.seed`), recorded by `cfg.video_by`; prints and returns
+    key -> MP4."""
+    seed, count = int(cfg.env.seed), int(cfg.video_episodes)
+    paths = training_configurations(cfg, count, seed)
+    tasks = [OpenTask(cfg, path, seed + i) for i, path in enumerate(paths)]
+    recorded = record_episodes(tasks, policy, count, stem, cfg.video_by)
+    for key, path in recorded.items():
+        print(f"video ({key}): {path}")
+    return recorded

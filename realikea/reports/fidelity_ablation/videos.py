@@ -4,13 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from realikea.assets.library import training_configurations
 from realikea.eval.protocol import outcome_table
 from realikea.eval.setup import eval_setup, evaluate
-from realikea.eval.video import record_episodes
+from realikea.eval.video import record_draw
 from realikea.reports.fidelity_ablation.runs import command_overrides
 from realikea.reports.fidelity_ablation.tables import relative
-from realikea.tasks.open_task import OpenTask
 
 
 def record_videos(runs: list[dict], episodes: int) -> None:
@@ -42,17 +40,10 @@ def video_overrides(run: dict, episodes: int) -> list[str]:
 
 def evaluate_and_record(overrides: list[str], stem: Path) -> dict[str, Path]:
     """What `realikea eval OVERRIDES video=true video_path=STEM` does: the evaluation's outcome
-    table, then `video_episodes` episodes recorded by `record_episodes` (an MP4 and a frame
-    strip per `video_by` key, a strategy label by default); returns key -> MP4."""
+    table, then the recorded episodes (`record_draw`); returns key -> MP4."""
     cfg, policy = eval_setup(overrides)
     print(outcome_table(evaluate(cfg, policy)))
-    seed, count = int(cfg.env.seed), int(cfg.video_episodes)
-    paths = training_configurations(cfg, count, seed)
-    tasks = [OpenTask(cfg, path, seed + i) for i, path in enumerate(paths)]
-    recorded = record_episodes(tasks, policy, count, stem, cfg.video_by)
-    for key, path in recorded.items():
-        print(f"video ({key}): {path}")
-    return recorded
+    return record_draw(cfg, policy, stem)
 
 
 def typical_strategy(run: dict) -> str | None:
