@@ -28,7 +28,9 @@ RECIPES = {"default": [], "hull_high": ["collision=hull", "resistance=high"]}
 
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
-    overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1")
+    # checkpoints every 25 iterations: a session stopped mid-run loses little when it resumes
+    overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1",
+                 "agent.save_interval=25")  # fmt: skip
     return QueuedRun(f"{recipe}_s{seed}", overrides, ITERATIONS)
 
 
