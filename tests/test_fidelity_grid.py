@@ -1,8 +1,7 @@
-"""The fidelity grid: its experiment config and the driver that runs, resumes and keeps runs."""
+"""The fidelity grid: its experiment config, the runs it plans and what a finished run keeps."""
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import json
 import os
@@ -21,6 +20,7 @@ from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
 from realikea.tasks.rewards import variant_name
+from realikea.training import fidelity_grid
 from realikea.training.metrics import join_launches
 
 
@@ -34,14 +34,8 @@ def script(name: str):
     return module
 
 
-def grid():
-    return script("grid")
-
-
-def _args(**kw) -> argparse.Namespace:
-    module = grid()
-    values = {axis: list(v) for axis, v in module.AXES.items()}
-    return argparse.Namespace(**{**values, "seeds": [0, 1], "paper": False, **kw})
+def _planned(seeds=(0, 1), paper=False, **axes):
+    return fidelity_grid.planned(**{**fidelity_grid.AXES, **axes}, seeds=seeds, paper=paper)
 
 
 def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_test_parts():
@@ -53,7 +47,7 @@ def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_te
     assert cfg.task.reward.w_open2 == 0.0  # the appendix's, not the generalist's 2.0
     assert cfg.task.reward.variant == "appendix" and not cfg.agent.init_at_random_ep_len
     assert cfg.train.eval_after.collision == "coacd"  # every run on the faithful geometry
-    assert cfg.agent.max_iterations == grid().ITERATIONS
+    assert cfg.agent.max_iterations == fidelity_grid.ITERATIONS
 
 
 def test_a_bad_end_of_training_evaluation_is_refused_before_training(tmp_path):
@@ -80,80 +74,58 @@ def test_a_bad_end_of_training_evaluation_is_refused_before_training(tmp_path):
 
 
 def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused():
-    module = grid()
-    runs = module.planned(_args())
+    runs = _planned()
     assert len(runs) == 2 * 3 * 3 * 2
     assert {r.seed for r in runs[:18]} == {0} and runs[0].name == "coacd_high_two_point_s0"
-    assert module.planned(_args(paper=True))[0].name == "paper_coacd_high_two_point_s0"
-    assert "dr.switch_iteration=900" in module.planned(_args(paper=True))[0].overrides()
+    paper = _planned(paper=True)[0]
+    assert paper.name == "paper_coacd_high_two_point_s0" and paper.iterations == 1500
+    assert "dr.switch_iteration=900" in paper.overrides
     with pytest.raises(RealIkeaError, match="unknown categories bogus"):
-        module.planned(_args(categories=["bogus"]))
+        _planned(categories=["bogus"])
     with pytest.raises(RealIkeaError, match="seeds"):
-        module.planned(_args(seeds=[-1]))
+        _planned(seeds=[-1])
 
 
-def test_a_stopped_run_continues_from_its_last_checkpoint(tmp_path, monkeypatch):
-    module = grid()
-    monkeypatch.setattr(module, "WORK", tmp_path)
-    run = module.planned(_args(seeds=[0]))[0]
-    assert not any(a.startswith("train.resume=") for a in module.command(run))
-    (tmp_path / run.name).mkdir()
-    assert not any(a.startswith("train.resume=") for a in module.command(run))  # no checkpoint
+def test_a_stopped_run_continues_from_its_last_checkpoint_and_finishes_with_eval_json(tmp_path):
+    queue = fidelity_grid.grid_queue(tmp_path / "work", tmp_path / "kept")
+    run = _planned(seeds=[0])[0]
+    assert not any(a.startswith("train.resume=") for a in queue.command(run))
+    run_dir = tmp_path / "work" / run.name
+    run_dir.mkdir(parents=True)
     for it in (0, 50, 150):
-        (tmp_path / run.name / f"model_{it}.pt").write_bytes(b"")
-    command = module.command(run)
-    assert f"train.resume={tmp_path / run.name / 'model_150.pt'}" in command
-    assert f"agent.max_iterations={module.ITERATIONS - 150}" in command
-    assert not module.running(run)
-    (tmp_path / f"{run.name}.pid").write_text("999999999\n")  # no such process
-    assert not module.running(run)
+        (run_dir / f"model_{it}.pt").write_bytes(b"")
+    command = queue.command(run)
+    assert f"train.resume={run_dir / 'model_150.pt'}" in command
+    assert f"agent.max_iterations={fidelity_grid.ITERATIONS - 150}" in command
+    assert queue.state(run) == "stopped"
+    (run_dir / "model_899.pt").write_bytes(b"")
+    assert queue.state(run) == "stopped"  # a grid run is finished by its evaluation
+    (run_dir / "eval.json").write_text("{}")
+    assert queue.state(run) == "finished"
 
 
 def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs():
-    module = grid()
     found = [(it, Path(f"model_{it}.pt")) for it in (0, 50, 100, 150, 200, 1499)]
-    paper = module.planned(_args(seeds=[0, 1], paper=True))
+    paper = _planned(seeds=[0, 1], paper=True)
     swept = [r.seed == 0 and (r.category, r.resistance) == ("two_point", "high") for r in paper]
     assert [r.swept for r in paper] == swept and paper[0].swept and sum(swept) == 2  # a source
-    kept = [p.name for p in module.kept_checkpoints(paper[0], found)]
+    kept = [p.name for p in fidelity_grid.kept_checkpoints(paper[0], found)]
     assert kept == ["model_0.pt", "model_100.pt", "model_200.pt", "model_1499.pt"]
-    assert module.kept_checkpoints(paper[-1], found) == [Path("model_1499.pt")]  # seed 1
-    grid_run = module.planned(_args(seeds=[0]))[0]
-    assert not grid_run.swept and module.kept_checkpoints(grid_run, found) == [found[-1][1]]
+    assert fidelity_grid.kept_checkpoints(paper[-1], found) == [Path("model_1499.pt")]  # seed 1
+    grid_run = _planned(seeds=[0])[0]
+    assert not grid_run.swept and fidelity_grid.kept_checkpoints(grid_run, found) == [found[-1][1]]
 
 
 def test_a_kept_runs_eval_commands_name_the_checkpoint_git_holds():
-    module = grid()
-    trained = module.WORK / "hull_high_knob_s0" / "model_899.pt"
+    trained = fidelity_grid.WORK / "hull_high_knob_s0" / "model_899.pt"
     command = f"realikea eval policy=checkpoint policy.path={trained} resistance=high episodes=50"
     report = {"checkpoint": "model_899.pt", "modes": {"high": {"command": command}}}
-    kept = module.kept_eval(report, module.KEPT / "hull_high_knob_s0")
+    kept = fidelity_grid.kept_eval(report, fidelity_grid.KEPT / "hull_high_knob_s0")
     assert kept["modes"]["high"]["command"] == (
         "realikea eval policy=checkpoint "
         "policy.path=experiments/fidelity_ablation/grid/hull_high_knob_s0/model_899.pt "
         "resistance=high episodes=50"
     )
-
-
-def test_a_launchs_wall_time_is_recorded_while_it_runs(tmp_path, monkeypatch, capsys):
-    module = grid()
-    monkeypatch.setattr(module, "WORK", tmp_path / "work")
-    monkeypatch.setattr(module, "KEPT", tmp_path / "kept")
-    monkeypatch.setattr(module, "POLL_SECONDS", 0.2)
-    run = module.planned(_args(seeds=[0]))[0]
-    (tmp_path / "work").mkdir()
-    module.record_wall(run, [100.0])  # an earlier launch
-    wall = tmp_path / "work" / f"{run.name}.wall.json"
-    # the "training" prints its own wall record mid-run, then exits without an eval.json
-    script = f"import time; time.sleep(1.0); print(open({str(wall)!r}).read())"
-    monkeypatch.setattr(module, "command", lambda r: [sys.executable, "-c", script])
-    assert module.run_all([run], jobs=1) == 1  # no eval.json: failed, nothing kept
-    assert "FAILED" in capsys.readouterr().out and not (tmp_path / "kept").exists()
-    mid_run = json.loads((tmp_path / "work" / f"{run.name}.log").read_text())
-    final = module.wall_times(run)
-    assert final[0] == 100.0 and final[1] >= 1.0
-    # mid-run the launch had its own entry already: a stopped launch would still count
-    assert mid_run[0] == 100.0 and 0.1 < mid_run[1] < final[1]
 
 
 def test_a_sweep_over_a_group_value_that_does_not_exist_fails_before_writing(tmp_path):
