@@ -11,13 +11,12 @@ import argparse
 from pathlib import Path
 
 import matplotlib
-import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from realikea.files import atomic_path  # noqa: E402
-from realikea.training.metrics import read_metrics  # noqa: E402
+from realikea.training.metrics import read_metrics, running_mean  # noqa: E402
 
 WINDOW = 50
 
@@ -30,14 +29,6 @@ def labelled_run(text: str) -> tuple[str, Path]:
     return label, Path(folder)
 
 
-def running_mean(values: list[float], window: int = WINDOW) -> np.ndarray:
-    """The mean of each value and the window - 1 before it (fewer at the start)."""
-    cumulative = np.concatenate([[0.0], np.cumsum(values)])
-    ends = np.arange(1, len(values) + 1)
-    starts = np.maximum(ends - window, 0)
-    return (cumulative[ends] - cumulative[starts]) / (ends - starts)
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="+", type=labelled_run, metavar="LABEL=RUN_DIR")
@@ -48,7 +39,7 @@ def main() -> None:
     fig, ax = plt.subplots(figsize=(8, 4))
     for label, folder in args.runs:
         its, values = read_metrics(folder).get("/episode/success", ([], []))
-        ax.plot(its, running_mean(values), label=label)
+        ax.plot(its, running_mean(values, WINDOW), label=label)
     if args.switch is not None:
         ax.axvline(args.switch, color="grey", linestyle="--", label="randomized poses")
     ax.set(title=f"{args.title} ({WINDOW}-iteration mean)", xlabel="iteration", ylim=(0, 1))

@@ -1,5 +1,5 @@
-"""A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag, and
-the rows of several launches of one run joined."""
+"""A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag,
+the rows of several launches of one run joined, and a running mean for curves."""
 
 from __future__ import annotations
 
@@ -7,6 +7,8 @@ import csv
 import math
 from collections import defaultdict
 from pathlib import Path
+
+import numpy as np
 
 
 def read_metrics(run_dir: Path) -> dict[str, tuple[list[int], list[float]]]:
@@ -51,3 +53,11 @@ def join_launches(lines: list[str]) -> list[str]:
         logged = [int(iteration) for iteration, tag in cells if not tag.endswith("/time")]
         resumed_at = min([resumed_at, *logged])
     return [header, *kept]
+
+
+def running_mean(values: list[float], window: int) -> np.ndarray:
+    """The mean of each value and the window - 1 before it (fewer at the start)."""
+    cumulative = np.concatenate([[0.0], np.cumsum(values)])
+    ends = np.arange(1, len(values) + 1)
+    starts = np.maximum(ends - window, 0)
+    return (cumulative[ends] - cumulative[starts]) / (ends - starts)
