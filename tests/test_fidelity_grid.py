@@ -19,6 +19,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
+from realikea.reports.fidelity_ablation.compare import comparison_lines
 from realikea.tasks.rewards import variant_name
 from realikea.training import fidelity_grid
 from realikea.training.metrics import join_launches
@@ -165,21 +166,19 @@ def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
     assert join_launches(earlier_only) == join_launches(lines)
 
 
-def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path, capsys):
-    module = script("compare_runs")
+def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path):
     for name, success in (("a", 0.46), ("b", 0.70)):
         (tmp_path / name).mkdir()
         modes = {"high": {"success": success, "episodes": 50}}
         (tmp_path / name / "eval.json").write_text(json.dumps({"modes": modes}))
-    assert module.main([str(tmp_path / "a"), str(tmp_path / "b")]) == 0
-    row = capsys.readouterr().out.splitlines()[-1]
+    row = comparison_lines(tmp_path / "a", tmp_path / "b")[-1]
     # 23 of 50 against 35 of 50: Newcombe's interval excludes zero
     assert (
         row
         == "| high | 0.46 [0.33, 0.60] | 0.70 [0.56, 0.81] | -0.24 [-0.41, -0.05] | significant |"
     )
-    with pytest.raises(SystemExit, match="no eval.json"):
-        module.main([str(tmp_path), str(tmp_path / "b")])
+    with pytest.raises(RealIkeaError, match="no eval.json"):
+        comparison_lines(tmp_path, tmp_path / "b")
 
 
 def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs_draw(tmp_path):
