@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import shutil
@@ -19,20 +18,12 @@ from realikea.errors import RealIkeaError
 from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
+from realikea.policies.full_squeeze import FullSqueeze
 from realikea.reports.fidelity_ablation.compare import comparison_lines
+from realikea.reports.fidelity_ablation.runs import mode_overrides
 from realikea.tasks.rewards import variant_name
 from realikea.training import fidelity_grid
 from realikea.training.metrics import join_launches
-
-
-def script(name: str):
-    """experiments/fidelity_ablation/NAME.py as a module."""
-    path = WORKSPACE / "experiments" / "fidelity_ablation" / f"{name}.py"
-    spec = importlib.util.spec_from_file_location(f"fidelity_{name}", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
 
 
 def _planned(seeds=(0, 1), paper=False, **axes):
@@ -182,8 +173,6 @@ def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path):
 
 
 def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs_draw(tmp_path):
-    module = script("squeeze")
-
     class Fixed:
         def reset(self, env_ids, facts):
             pass
@@ -191,16 +180,16 @@ def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs
         def act(self, obs):
             return np.array([[0.0, 0.0, 0.0, 0.0, -0.5], [0.0, 0.0, 0.0, 0.0, 0.3]])
 
-    squeezed = module.FullSqueeze(Fixed())
+    squeezed = FullSqueeze(Fixed())
     action = squeezed.act(np.zeros((2, 3)))
     assert action[:, 4].tolist() == [-1.0, 0.3] and squeezed.closing == [-0.5]
     with pytest.raises(RealIkeaError, match="no eval.json"):
-        module.run_overrides(tmp_path, "high", 50)
+        mode_overrides(tmp_path, "high", 50)
     command = "realikea eval policy=checkpoint policy.path=x.pt resistance=smooth episodes=50"
     (tmp_path / "eval.json").write_text(json.dumps({"modes": {"smooth": {"command": command}}}))
     with pytest.raises(RealIkeaError, match="not high"):
-        module.run_overrides(tmp_path, "high", 50)
-    assert module.run_overrides(tmp_path, "smooth", 8) == [
+        mode_overrides(tmp_path, "high", 50)
+    assert mode_overrides(tmp_path, "smooth", 8) == [
         "policy=checkpoint", "policy.path=x.pt", "resistance=smooth", "episodes=8"
     ]  # fmt: skip
 

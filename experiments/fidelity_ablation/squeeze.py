@@ -16,7 +16,6 @@ pulling (`grip_force`) and the failure modes, and writes the table to --out.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -27,39 +26,8 @@ from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.eval.table import cell_row
 from realikea.files import atomic_write_text, shown_path
-from realikea.reports.fidelity_ablation.runs import command_overrides
-
-GRIP = 4  # the action's gripper command (open_task.apply_action): -1 closed, +1 open
-
-
-class FullSqueeze:
-    """`policy` with its gripper command at -1 (fully closed) whenever it is below 0."""
-
-    def __init__(self, policy):
-        self.policy = policy
-        self.closing: list[float] = []  # the policy's own closing commands, before the change
-
-    def reset(self, env_ids, facts) -> None:
-        self.policy.reset(env_ids, facts)
-
-    def act(self, obs: np.ndarray) -> np.ndarray:
-        action = self.policy.act(obs)
-        closing = action[:, GRIP] < 0.0
-        self.closing += np.clip(action[closing, GRIP], -1.0, 0.0).tolist()
-        action[closing, GRIP] = -1.0
-        return action
-
-
-def run_overrides(run: Path, resistance: str, episodes: int) -> list[str]:
-    """The `realikea eval` overrides of the run's evaluation in `resistance`, N episodes."""
-    path = run / "eval.json"
-    if not path.is_file():
-        raise RealIkeaError(f"{run}: no eval.json (not a finished run)")
-    modes = json.loads(path.read_text())["modes"]
-    if resistance not in modes:
-        raise RealIkeaError(f"{run}: evaluated in {', '.join(modes)}, not {resistance}")
-    tokens = command_overrides(modes[resistance]["command"])
-    return [t for t in tokens if not t.startswith("episodes=")] + [f"episodes={episodes}"]
+from realikea.policies.full_squeeze import FullSqueeze
+from realikea.reports.fidelity_ablation.runs import mode_overrides
 
 
 def table(rows: dict[str, dict]) -> list[str]:
@@ -98,7 +66,7 @@ def main() -> int:
     parser.add_argument("--out", type=Path, help="markdown file (default: RUN/squeeze.md)")
     args = parser.parse_args()
     try:
-        overrides = run_overrides(args.run, args.resistance, args.episodes)
+        overrides = mode_overrides(args.run, args.resistance, args.episodes)
     except RealIkeaError as err:
         parser.error(str(err))
     scripted = [t for t in overrides if not t.startswith("policy")] + [f"policy={args.scripted}"]

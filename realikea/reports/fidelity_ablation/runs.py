@@ -143,3 +143,16 @@ def command_overrides(command: str) -> list[str]:
     if tokens[:2] != EVAL_COMMAND.split():
         raise RealIkeaError(f"not a `{EVAL_COMMAND}` command: {command!r}")
     return tokens[2:]
+
+
+def mode_overrides(run: Path, resistance: str, episodes: int) -> list[str]:
+    """The `realikea eval` overrides of a finished run's evaluation (its eval.json) in
+    `resistance`, with `episodes` episodes."""
+    path = run / "eval.json"
+    if not path.is_file():
+        raise RealIkeaError(f"{run}: no eval.json (not a finished run)")
+    modes = json.loads(path.read_text())["modes"]
+    if resistance not in modes:
+        raise RealIkeaError(f"{run}: evaluated in {', '.join(modes)}, not {resistance}")
+    tokens = command_overrides(modes[resistance]["command"])
+    return [t for t in tokens if not t.startswith("episodes=")] + [f"episodes={episodes}"]
