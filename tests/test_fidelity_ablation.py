@@ -3,10 +3,8 @@ end-of-training evaluation (eval.json), the report, and (opt-in) the Ray launche
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
-import re
 import shutil
 import subprocess
 import sys
@@ -26,6 +24,7 @@ from realikea.eval.stats import diff_interval, seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
 from realikea.reports.fidelity_ablation import videos
 from realikea.reports.fidelity_ablation.cells import aggregate, measured_runs, variant
+from realikea.reports.fidelity_ablation.report import report
 from realikea.reports.fidelity_ablation.runs import (
     _trained_iterations,
     command_overrides,
@@ -193,23 +192,13 @@ def fake_coacd_run(run, target):
     (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
-def script():
-    """experiments/fidelity_ablation/report.py, the thin script over realikea.reports."""
-    spec = importlib.util.spec_from_file_location(
-        "fidelity_report", WORKSPACE / "experiments" / "fidelity_ablation" / "report.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
     root = tmp_path / "runs"
     shutil.copytree(sweep, root)
     run = root / "hull_smooth_two_point_franka_hand_s0"
     fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
     out = tmp_path / "report"
-    assert script().main([str(root), "--out", str(out)]) == 0
+    assert report([root], out) == out / "report.md"
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     # one seed a cell: Wilson's interval on 2 of 4 episodes, Newcombe's on the difference
@@ -251,8 +240,7 @@ def fake_phase_map(folder, coacd_success, hull_success):
 def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_path):
     fake_phase_map(tmp_path / "paper_map", coacd_success=0.5, hull_success=0.05)
     out = tmp_path / "report"
-    maps = ["--phase-maps", str(tmp_path / "paper_map")]
-    assert script().main([str(sweep), "--out", str(out), *maps]) == 0
+    report([sweep], out, [tmp_path / "paper_map"])
     text = (out / "report.md").read_text()
     assert "## Friction-trap phase maps" in text and "### ../paper_map" in text
     assert "Policies coacd, hull; elliptic cones; 2 cells of 20 episodes, test parts" in text
@@ -263,19 +251,23 @@ def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_p
 
 
 def test_a_phase_map_without_its_figure_or_cells_is_refused_before_anything_is_written(
-    sweep, tmp_path, capsys
+    sweep, tmp_path
 ):
     fake_phase_map(tmp_path / "map", coacd_success=0.5, hull_success=0.5)
     (tmp_path / "map" / "phase_map.png").unlink()
     out = tmp_path / "report"
-    args = [str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")]
-    assert script().main(args) == 2
-    assert re.search("error: not a phase map.*phase_map.png", capsys.readouterr().err)
+    with pytest.raises(RealIkeaError, match="not a phase map.*phase_map.png"):
+        report([sweep], out, [tmp_path / "map"])
     (tmp_path / "map" / "phase_map.png").write_bytes(b"")
     (tmp_path / "map" / "cells.jsonl").write_text("")
-    assert script().main(args) == 2
-    assert "error: phase map without cells" in capsys.readouterr().err
+    with pytest.raises(RealIkeaError, match="phase map without cells"):
+        report([sweep], out, [tmp_path / "map"])
     assert not out.exists()
+    # the script prints the error and exits 2
+    script = WORKSPACE / "experiments/fidelity_ablation/report.py"
+    args = [str(sweep), "--out", str(out), "--phase-maps", str(tmp_path / "map")]
+    done = subprocess.run([sys.executable, str(script), *args], capture_output=True, text=True)
+    assert done.returncode == 2 and "error: phase map without cells" in done.stderr
 
 
 def test_the_interval_table_counts_the_seeds_that_learned():
