@@ -14,16 +14,13 @@ from __future__ import annotations
 
 import itertools
 import json
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
-from realikea.files import WORKSPACE, atomic_write_text, shown_path
-from realikea.policies.checkpoint import slim_checkpoint
-from realikea.training.metrics import join_launches
-from realikea.training.queue import QueuedRun, RunQueue
+from realikea.files import WORKSPACE, shown_path
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 KEPT = WORKSPACE / "experiments/fidelity_ablation/grid"
 WORK = WORKSPACE / "outputs/fidelity_grid"
@@ -91,22 +88,14 @@ def planned(collisions, resistances, categories, seeds, paper: bool = False) -> 
 
 
 def keep(run: GridRun, seconds: list[float], work: Path = WORK, kept: Path = KEPT) -> Path:
-    """Copy what re-evaluation and the report need from the finished run in `work` to
-    `kept`/NAME, which appears whole or not at all."""
+    """Keep the finished run from `work` in `kept`/NAME (the queue's `keep_run`): also its
+    eval.json, naming the kept checkpoint, and for a swept run the sweep's checkpoints."""
     source, target = work / run.name, kept / run.name
-    staging = target.with_name(target.name + ".partial")
-    shutil.rmtree(staging, ignore_errors=True)
-    shutil.copytree(source / ".hydra", staging / ".hydra")
     report = kept_eval(json.loads((source / DONE).read_text()), target)
-    atomic_write_text(staging / DONE, json.dumps(report, indent=2) + "\n")
-    metrics = (source / "metrics.csv").read_text().splitlines()
-    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
-    for path in kept_checkpoints(run, checkpoints(source)):
-        slim_checkpoint(path, staging / path.name)
-    atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
-    shutil.rmtree(target, ignore_errors=True)
-    staging.rename(target)
-    return target
+    return keep_run(
+        source, target, seconds, kept_checkpoints(run, checkpoints(source)),
+        {DONE: json.dumps(report, indent=2) + "\n"},
+    )  # fmt: skip
 
 
 def kept_eval(report: dict, target: Path) -> dict:

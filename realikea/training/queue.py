@@ -158,17 +158,25 @@ def _interruptible() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-def keep_run(source: Path, target: Path, seconds: list[float]) -> Path:
-    """Copy a finished run's Hydra config, its metrics (launches joined), its last checkpoint
-    slimmed to what evaluation reads and the launches' wall times from `source` to `target`,
-    which appears whole or not at all."""
+def keep_run(
+    source: Path,
+    target: Path,
+    seconds: list[float],
+    kept: list[Path] | None = None,
+    files: dict[str, str] | None = None,
+) -> Path:
+    """Copy a finished run's Hydra config, its metrics (launches joined), its checkpoints
+    `kept` (default: the last) slimmed to what evaluation reads, the launches' wall times and
+    `files` (name -> text) from `source` to `target`, which appears whole or not at all."""
     staging = target.with_name(target.name + ".partial")
     shutil.rmtree(staging, ignore_errors=True)
     shutil.copytree(source / ".hydra", staging / ".hydra")
+    for name, text in (files or {}).items():
+        atomic_write_text(staging / name, text)
     metrics = (source / "metrics.csv").read_text().splitlines()
     atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
-    last = checkpoints(source)[-1][1]
-    slim_checkpoint(last, staging / last.name)
+    for path in kept or [checkpoints(source)[-1][1]]:
+        slim_checkpoint(path, staging / path.name)
     atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")
     shutil.rmtree(target, ignore_errors=True)
     staging.rename(target)
