@@ -12,6 +12,18 @@ from realikea.errors import RealIkeaError
 from realikea.files import CONF_DIR
 
 
+def config_number(node: DictConfig, key: str, path: str, minimum: float | None = None) -> float:
+    """A numeric config value, or an error naming the key and the bad value."""
+    value = node.get(key)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise RealIkeaError(f"config value {path}={value!r} is not a number") from None
+    if minimum is not None and number < minimum:
+        raise RealIkeaError(f"config value {path}={value!r} must be >= {minimum:g}")
+    return number
+
+
 def override_key(override: str) -> str:
     """The key a Hydra override sets: `+a.b=1` -> `a.b`, `~a` -> `a`, `group=x` -> `group`."""
     return override.lstrip("+~").split("=", 1)[0]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.config import load_config
 from realikea.files import repo_path
@@ -38,16 +38,13 @@ def sample_configs(catalog):
 
 
 def build_sample(configs, settings, cache_root, out):
-    """Build configurations for both collision sources in high resistance, quietly."""
-    high = Resistance("high", 10.0, 20.0)
-    return build_library(
-        configs, settings, high, ("coacd", "hull"), cache_root, out, progress=False
-    )
+    """Build configurations for both collision sources (at the nominal resistance), quietly."""
+    return build_library(configs, settings, ("coacd", "hull"), cache_root, out, progress=False)
 
 
 @pytest.fixture(scope="session")
 def sample_library(tmp_path_factory, sample_configs, settings, cache_root):
-    """The sample built for both collision sources in high resistance."""
+    """The sample built for both collision sources."""
     out = tmp_path_factory.mktemp("library")
     return out, build_sample(sample_configs, settings, cache_root, out)
 
@@ -63,7 +60,7 @@ EXPORT_SAMPLE = {
 
 @pytest.fixture(scope="session")
 def export_library(tmp_path_factory, catalog, settings, cache_root):
-    """EXPORT_SAMPLE built once for both collision sources in high resistance."""
+    """EXPORT_SAMPLE built once for both collision sources."""
     out = tmp_path_factory.mktemp("export_library")
     configs = [next(catalog.configurations(part=p, base=b)) for p, b in EXPORT_SAMPLE.values()]
     build_sample(configs, settings, cache_root, out)

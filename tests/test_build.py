@@ -7,20 +7,12 @@ import dataclasses
 import shutil
 
 import mujoco
-import numpy as np
 import pytest
 from conftest import build_sample
 
-from realikea.assets.build import (
-    INDEX_COLUMNS,
-    Resistance,
-    build_library,
-    part_key,
-)
+from realikea.assets.build import INDEX_COLUMNS, build_library, part_key
 from realikea.assets.library import load_model, read_index
-from realikea.sim.resistance import handle_resistance, lever_arm
-
-NORMAL = Resistance("normal", 5.0, 10.0)
+from realikea.sim.resistance import handle_resistance, lever_arm, nominal
 
 
 def test_every_sample_mjcf_compiles(sample_library, sample_configs):
@@ -72,7 +64,8 @@ def test_joint_resistance_and_opening_direction(sample_library):
         data = mujoco.MjData(model)
         mujoco.mj_kinematics(model, data)
         lever = lever_arm(data.xanchor[0], data.xaxis[0], data.site("handle").xpos)
-        expected = handle_resistance(row["joint_type"], lever, 10.0, 20.0)  # hinges: at the handle
+        mode = nominal()  # hinges: at the handle
+        expected = handle_resistance(row["joint_type"], lever, mode.damping, mode.frictionloss)
         assert (model.dof_damping[0], model.dof_frictionloss[0]) == pytest.approx(
             expected, rel=1e-5
         )  # MJCF: 6 digits
@@ -114,33 +107,19 @@ def test_changed_dimension_rebuilds_only_what_depends_on_it(catalog, settings, t
         next(catalog.configurations(part=p.id, base="drawer_w60_h20")) for p in (changed, other)
     ]
     cache, out = tmp_path / "cache", tmp_path / "library"
-    report = build_library(configs, settings, NORMAL, ("hull",), cache, out, progress=False)
+    report = build_library(configs, settings, ("hull",), cache, out, progress=False)
     assert (report.parts_built, report.configs_built) == (2, 2)
 
     key = next(iter(changed.dims))
     edited = dataclasses.replace(changed, dims={**changed.dims, key: changed.dims[key] * 1.05})
     assert part_key(edited, settings) != part_key(changed, settings)
     configs[0] = dataclasses.replace(configs[0], part=edited)
-    report = build_library(configs, settings, NORMAL, ("hull",), cache, out, progress=False)
+    report = build_library(configs, settings, ("hull",), cache, out, progress=False)
     assert (report.parts_built, report.parts_cached) == (1, 1)
     assert (report.configs_built, report.configs_cached) == (1, 1)
 
-    report = build_library(configs, settings, NORMAL, ("hull",), cache, out, progress=False)
+    report = build_library(configs, settings, ("hull",), cache, out, progress=False)
     assert (report.parts_built, report.configs_built) == (0, 0)
-
-
-def test_resistance_change_reassembles_without_rebuilding_meshes(
-    catalog, settings, cache_root, tmp_path
-):
-    config = next(catalog.configurations("finger_pull", base="drawer_w60_h10"))
-    build_library([config], settings, NORMAL, ("hull",), cache_root, tmp_path, progress=False)
-    report = build_library(
-        [config], settings, Resistance("smooth", 2.0, 5.0), ("hull",), cache_root, tmp_path,
-        progress=False,
-    )  # fmt: skip
-    assert (report.parts_built, report.configs_built) == (0, 1)
-    model = load_model(tmp_path / config.id / "model_hull.xml")
-    assert np.allclose([model.dof_damping[0], model.dof_frictionloss[0]], [2.0, 5.0])
 
 
 def test_handle_site_sits_on_the_part(sample_library):

@@ -32,7 +32,8 @@ def test_build_one_configuration_hull_only(catalog, tmp_path, capsys):
         (["--part", "no_such_handle"], "unknown part id 'no_such_handle'"),
         (["--part", "tp_round_bar_128", "--base", "wardrobe"], "unknown base id 'wardrobe'"),
         (["asset=lever"], "Could not find 'asset/lever'"),
-        (["resistance.damping=stiff"], "resistance.damping"),
+        (["workflow.coacd.threshold=stiff"], "workflow.coacd.threshold='stiff' is not a number"),
+        (["resistance=high"], "written at the nominal resistance (normal)"),
     ],
 )
 def test_build_errors_name_the_input(tmp_path, capsys, args, message):

@@ -44,9 +44,9 @@ def test_unknown_key_is_an_error():
 
 
 def test_cli_reports_bad_override_without_traceback(capsys):
-    assert main(["assets", "build", "--part", "x", "resistance=extreme"]) == 2
+    assert main(["assets", "build", "--part", "x", "collision=extreme"]) == 2
     err = capsys.readouterr().err
-    assert "resistance/extreme" in err and "Traceback" not in err
+    assert "collision/extreme" in err and "Traceback" not in err
 
 
 def test_train_py_composes_the_config():

@@ -1,4 +1,4 @@
-"""The docs stay true (issue 33): every command, flag, override, path and link they name exists.
+"""The docs stay true: every command, flag, override, path and link they name exists.
 
 Docs: README.md, DATASET.md, docs/*.md, experiments/*/README.md, realikea/catalog/README.md.
 Every command's script, module or `realikea` sub-command exists and knows the flags given (a

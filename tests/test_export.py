@@ -20,8 +20,10 @@ from realikea.errors import RealIkeaError
 from realikea.export import driver
 from realikea.export.driver import export_configurations, export_folder
 from realikea.files import repo_path
+from realikea.sim.resistance import handle_resistance, lever_arm, mode, nominal
 
 REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
+HIGH = mode("high")  # what the fixture exports; the library is built at the nominal mode
 
 
 def _configs(catalog, *names):
@@ -33,14 +35,17 @@ def _configs(catalog, *names):
 
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory, export_library, catalog):
-    """Every format of the three configurations with CoACD, and the drawer's hull URDF."""
+    """Every format of the three configurations with CoACD, and the drawer's hull URDF, in high."""
     out = tmp_path_factory.mktemp("export")
     configs = _configs(catalog, *EXPORT_SAMPLE)
     for fmt in driver.EXPORTERS:
-        export_configurations(configs, fmt, "coacd", export_library, out, progress=False)
+        export_configurations(
+            configs, fmt, "coacd", export_library, out, resistance=HIGH, progress=False
+        )
     export_configurations(
-        _configs(catalog, "drawer"), "urdf", "hull", export_library, out, progress=False
-    )
+        _configs(catalog, "drawer"), "urdf", "hull", export_library, out, resistance=HIGH,
+        progress=False,
+    )  # fmt: skip
     return out
 
 
@@ -74,6 +79,18 @@ def _front_joint(model: mujoco.MjModel):
     return joint, model.dof_damping[dof], model.dof_frictionloss[dof]
 
 
+def _at(model: mujoco.MjModel, resistance) -> tuple[float, float]:
+    """(damping, frictionloss) of a built model's front joint in one mode, a hinge's scaled to
+    its handle's lever arm."""
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    lever = lever_arm(data.xanchor[0], data.xaxis[0], data.site("handle").xpos)
+    slide = model.jnt_type[0] == mujoco.mjtJoint.mjJNT_SLIDE
+    return handle_resistance(
+        "slide" if slide else "hinge", lever, resistance.damping, resistance.frictionloss
+    )
+
+
 # --------------------------------------------------------------------------------- URDF
 
 
@@ -84,7 +101,8 @@ def test_urdf_loads_in_pybullet_with_the_mjcf_joint_and_one_shape_per_piece(
     exported, export_library, name, source
 ):
     model = _built_model(export_library, name, source)
-    joint, damping, frictionloss = _front_joint(model)
+    joint = _front_joint(model)[0]
+    damping, frictionloss = _at(model, HIGH)
     urdf = export_folder(exported, "urdf", source, _id(name)) / f"model_{source}.urdf"
     client = pybullet.connect(pybullet.DIRECT)
     try:
@@ -100,8 +118,8 @@ def test_urdf_loads_in_pybullet_with_the_mjcf_joint_and_one_shape_per_piece(
         slide = model.jnt_type[joint.id] == mujoco.mjtJoint.mjJNT_SLIDE
         assert kind == (pybullet.JOINT_PRISMATIC if slide else pybullet.JOINT_REVOLUTE)
         assert (lower, upper) == pytest.approx(tuple(joint.range), abs=1e-9)
-        assert jdamping == pytest.approx(damping, rel=1e-9)
-        assert jfriction == pytest.approx(frictionloss, rel=1e-9)
+        assert jdamping == pytest.approx(damping, rel=1e-8)  # URDF: 9 digits
+        assert jfriction == pytest.approx(frictionloss, rel=1e-8)
 
         def shapes(link):
             return len(pybullet.getCollisionShapeData(body, link, physicsClientId=client))
@@ -133,7 +151,8 @@ def _physics(stage: Usd.Stage) -> dict:
 @pytest.mark.parametrize("name", list(EXPORT_SAMPLE))
 def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, export_library, name):
     model = _built_model(export_library, name)
-    joint, damping, frictionloss = _front_joint(model)
+    joint = _front_joint(model)[0]
+    damping, frictionloss = _at(model, HIGH)
     stage = Usd.Stage.Open(
         str(export_folder(exported, "usd", "coacd", _id(name)) / "model_coacd.usd")
     )
@@ -176,12 +195,14 @@ def test_usd_reopens_as_an_articulation_with_convex_hull_pieces(exported, export
 
 
 @pytest.mark.parametrize("name", list(EXPORT_SAMPLE))
-def test_mjcf_copy_compiles_with_the_built_joint(exported, export_library, name):
+def test_mjcf_is_the_built_model_at_the_exported_resistance(exported, export_library, name):
     built = _built_model(export_library, name)
     folder = export_folder(exported, "mjcf", "coacd", _id(name))
     copy = mujoco.MjModel.from_xml_path(str(folder / "model_coacd.xml"))
     assert (copy.nbody, copy.ngeom, copy.nmesh) == (built.nbody, built.ngeom, built.nmesh)
-    assert _front_joint(copy)[1:] == _front_joint(built)[1:]
+    assert _front_joint(built)[1:] == pytest.approx(_at(built, nominal()), rel=1e-5)
+    assert _front_joint(copy)[1:] == pytest.approx(_at(built, HIGH), rel=1e-8)
+    assert np.array_equal(copy.geom_size, built.geom_size)
     assert not any(p.name.startswith("hull") for p in (folder / "meshes").iterdir())
 
 
@@ -212,12 +233,12 @@ def test_metadata_describes_the_configuration(exported, export_library, catalog,
     assert meta["dimensions"]["part"] == part.dims
     assert meta["dimensions"]["base"]["width"] == base.width
     assert meta["joint"]["type"] == base.joint and meta["joint"]["range"] == [0.0, base.travel]
-    # resistance: built in high, every mode scaled to the handle as the build scales it
+    # resistance: exported in high, every mode scaled to the handle as the scene scales it
     resistance = meta["resistance"]
     assert set(resistance["modes"]) == {"smooth", "normal", "high"}
-    assert resistance["built"]["mode"] == "high"
-    _, damping, frictionloss = _front_joint(_built_model(export_library, name, source))
-    assert resistance["built"]["damping"] == pytest.approx(damping)
+    assert resistance["exported"]["mode"] == "high"
+    damping, frictionloss = _at(_built_model(export_library, name, source), HIGH)
+    assert resistance["exported"]["damping"] == pytest.approx(damping)
     assert resistance["modes"]["high"]["frictionloss"] == pytest.approx(frictionloss, rel=1e-5)
     if base.joint == "slide":
         assert resistance["lever_arm"] is None
@@ -356,12 +377,39 @@ def test_an_interrupted_export_leaves_no_partial_folder(
 # --------------------------------------------------------------------------------- bad input
 
 
-def test_the_command_exports_one_configuration(export_library, tmp_path, capsys):
+def test_the_command_exports_one_configuration_at_the_mode_it_is_given(
+    export_library, tmp_path, capsys
+):
     part, base = EXPORT_SAMPLE["drawer"]
     args = ["--part", part, "--base", base, "--format", "mjcf", "--out", str(tmp_path)]
-    assert main(["assets", "export", *args, f"paths.library={export_library}"]) == 0
+    library = f"paths.library={export_library}"
+    assert main(["assets", "export", *args, "--resistance", "smooth", library]) == 0
     assert "exported 1, up to date 0" in capsys.readouterr().out
-    assert (export_folder(tmp_path, "mjcf", "coacd", _id("drawer")) / "metadata.json").is_file()
+    folder = export_folder(tmp_path, "mjcf", "coacd", _id("drawer"))
+    model = mujoco.MjModel.from_xml_path(str(folder / "model_coacd.xml"))
+    assert _front_joint(model)[1:] == pytest.approx((2.0, 5.0))  # a drawer: the mode as given
+    assert json.loads((folder / "metadata.json").read_text())["resistance"]["exported"] == {
+        "mode": "smooth", "damping": 2.0, "frictionloss": 5.0
+    }  # fmt: skip
+    assert main(["assets", "export", *args, "--resistance", "high", library]) == 0
+    assert "exported 1, up to date 0" in capsys.readouterr().out  # another mode: rewritten
+    model = mujoco.MjModel.from_xml_path(str(folder / "model_coacd.xml"))
+    assert _front_joint(model)[1:] == pytest.approx((10.0, 20.0))
+
+
+@pytest.mark.parametrize("command", ["build", "export"])
+def test_a_resistance_override_on_the_library_is_refused(export_library, tmp_path, capsys, command):
+    """The library carries the nominal mode whatever the override says; saying so beats a
+    silent no-op (an export 'at high' that is not)."""
+    part, base = EXPORT_SAMPLE["drawer"]
+    args = ["--part", part, "--base", base]
+    if command == "export":
+        args += ["--format", "mjcf", "--out", str(tmp_path / "out")]
+    code = main(["assets", command, *args, "resistance=high", f"paths.library={export_library}"])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "nominal resistance (normal)" in err
+    assert ("--resistance" in err) and not (tmp_path / "out").exists()
 
 
 def test_an_unknown_format_is_refused(export_library, catalog, tmp_path, capsys):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, catalog_dir
 from realikea.cli import main
 from realikea.config import load_config
@@ -54,7 +54,7 @@ def test_import_builds_like_a_catalog_part(catalog_root, tmp_path, capsys):
     cfg = load_config()
     out = tmp_path / "library"
     build_library(
-        [config], WorkflowSettings.from_config(cfg), Resistance("normal", 5, 10),
+        [config], WorkflowSettings.from_config(cfg),
         ("coacd", "hull"), tmp_path / "cache", out, progress=False,
     )  # fmt: skip
     model = mujoco.MjModel.from_xml_path(str(out / config.id / "model_coacd.xml"))

@@ -1,6 +1,6 @@
-"""The exported URDF in PyBullet behaves as the built MJCF does in MuJoCo: a front holds below its
-breakaway pull and opens above it, opens as far within 10 %, and the fingertip passes behind a
-two-point bar with the CoACD pieces and is blocked by the hull."""
+"""The exported URDF in PyBullet behaves as the exported MJCF does in MuJoCo: a front holds below
+its breakaway pull and opens above it, opens as far within 10 %, and the fingertip passes behind
+a two-point bar with the CoACD pieces and is blocked by the hull."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from realikea.export.model import read_articulation
 from realikea.interop import probe
 from realikea.interop.parity import OPENS, SECONDS, STILL, ProbeParity, compare_pull
 from realikea.interop.pull import breakaway_force, mujoco_pull, pybullet_pull
+from realikea.sim.resistance import mode
 
 CONFIGS = {
     "drawer": ("tp_round_bar_128", "drawer_w60_h20"),  # a bar: a gap behind it
@@ -23,26 +24,29 @@ CONFIGS = {
 
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory, catalog, settings, cache_root):
-    """The drawer and the door built in high resistance, exported to URDF (the drawer with both
+    """The drawer and the door exported to URDF and MJCF in high resistance (the drawer with both
     collision sources); returns (library, exports, configurations by name)."""
     library, out = tmp_path_factory.mktemp("library"), tmp_path_factory.mktemp("export")
     configs = {n: next(catalog.configurations(part=p, base=b)) for n, (p, b) in CONFIGS.items()}
     build_sample(list(configs.values()), settings, cache_root, library)
-    export_configurations(list(configs.values()), "urdf", "coacd", library, out, progress=False)
-    export_configurations([configs["drawer"]], "urdf", "hull", library, out, progress=False)
+    for fmt in ("urdf", "mjcf"):
+        for source, chosen in (("coacd", list(configs.values())), ("hull", [configs["drawer"]])):
+            export_configurations(
+                chosen, fmt, source, library, out, resistance=mode("high"), progress=False
+            )
     return library, out, configs
 
 
 def _front(exported, name: str, source: str = "coacd"):
-    """(MJCF, URDF, metadata, handle, breakaway force) of one built and exported front."""
-    library, out, configs = exported
+    """(MJCF, URDF, metadata, handle, breakaway force) of one exported front."""
+    _, out, configs = exported
     config_id = configs[name].id
     folder = export_folder(out, "urdf", source, config_id)
     metadata = json.loads((folder / "metadata.json").read_text())
-    mjcf = library / config_id / f"model_{source}.xml"
+    mjcf = export_folder(out, "mjcf", source, config_id) / f"model_{source}.xml"
     handle = read_articulation(mjcf).handle
     joint = metadata["joint"]
-    frictionloss = metadata["resistance"]["built"]["frictionloss"]
+    frictionloss = metadata["resistance"]["exported"]["frictionloss"]
     force = breakaway_force(joint["type"], frictionloss, joint["anchor"], joint["axis"], handle)
     return mjcf, folder / f"model_{source}.urdf", metadata, handle, force
 

@@ -10,10 +10,17 @@ import trimesh
 from realikea.assets.build import build_parts
 from realikea.assets.library import load_model, read_index
 from realikea.interop.pull import pull_at_handle
+from realikea.sim.resistance import nominal
 
 # A Franka Hand fingertip: about 18 mm wide along the bar, 8 mm thick across the gap, 0.1 kg.
 PROBE_HALF = (0.009, 0.008, 0.004)  # x (along bar), y (push direction), z (gap depth)
 PROBE_FORCE = 5.0  # N pushing the probe down through the gap
+
+
+def _at(model: mujoco.MjModel, damping: float, frictionloss: float) -> mujoco.MjModel:
+    """The model with its (slide) front joint set to this damping and friction loss."""
+    model.dof_damping[0], model.dof_frictionloss[0] = damping, frictionloss
+    return model
 
 
 def _pull_at_handle(model: mujoco.MjModel, force: float, seconds: float = 1.0) -> float:
@@ -34,7 +41,7 @@ def _pull_at_handle(model: mujoco.MjModel, force: float, seconds: float = 1.0) -
 def test_high_resistance_drawer_holds_below_friction_and_moves_above(sample_library):
     out, _ = sample_library
     row = next(r for r in read_index(out) if r["joint_type"] == "slide")
-    model = load_model(out / row["mjcf_coacd"], damping=10.0, frictionloss=20.0)
+    model = _at(load_model(out / row["mjcf_coacd"]), 10.0, 20.0)
     assert abs(_pull_at_handle(model, 15.0)) < 1e-3  # 15 N < 20 N friction: stays shut
     assert _pull_at_handle(model, 30.0) > 0.1  # 30 N > 20 N: slides open
 
@@ -44,7 +51,7 @@ def test_breakaway_force_tracks_the_friction_level(sample_library, mode):
     out, _ = sample_library
     row = next(r for r in read_index(out) if r["joint_type"] == "slide")
     damping, friction = mode
-    model = load_model(out / row["mjcf_coacd"], damping=damping, frictionloss=friction)
+    model = _at(load_model(out / row["mjcf_coacd"]), damping, friction)
     assert abs(_pull_at_handle(model, 0.8 * friction, 0.5)) < 1e-3
     assert _pull_at_handle(model, 1.3 * friction, 0.5) > 0.01
 
@@ -107,12 +114,13 @@ def test_hull_seals_the_finger_gap_and_coacd_keeps_it_open(catalog, settings, ca
 
 @pytest.mark.parametrize("kind", ["door", "flap"])
 def test_hinged_fronts_break_away_at_the_handle_like_a_drawer(sample_library, kind):
-    """The built MJCFs (high: drawer friction 20 N) resist a pull at a door's or flap's handle
-    with 20 N, not 20 N m: below it the front stays shut, above it it opens."""
+    """The built MJCFs (the nominal mode: drawer friction 10 N) resist a pull at a door's or
+    flap's handle with 10 N, not 10 N m: below it the front stays shut, above it it opens."""
     out, _ = sample_library
     rows = [r for r in read_index(out) if f"__{kind}_" in r["config_id"]]
     assert rows
+    friction = nominal().frictionloss
     for row in rows:
         model = load_model(out / row["mjcf_coacd"])  # the resistance as built
-        assert abs(pull_at_handle(model, 0.8 * 20.0, 0.5).q[-1]) < 2e-3, row["config_id"]
-        assert pull_at_handle(model, 1.3 * 20.0, 0.5).q[-1] > 0.02, row["config_id"]
+        assert abs(pull_at_handle(model, 0.8 * friction, 0.5).q[-1]) < 2e-3, row["config_id"]
+        assert pull_at_handle(model, 1.3 * friction, 0.5).q[-1] > 0.02, row["config_id"]

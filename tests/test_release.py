@@ -86,7 +86,7 @@ def test_the_release_holds_every_format_and_source_the_card_and_a_matching_manif
     for config in export_configs:
         record = manifest["configurations"][config.id]
         assert (record["part_id"], record["base_id"]) == (config.part.id, config.base.id)
-        assert record["resistance_mode"] == "high"
+        assert record["resistance_mode"] == "normal"  # the default: the nominal mode
         assert sorted(record["exports"]) == sorted(FOLDERS)
         for fmt in FORMATS:
             for source in SOURCES:

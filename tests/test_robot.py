@@ -10,7 +10,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
@@ -66,7 +66,7 @@ def library(tmp_path_factory):
     configs = [c for b in BASES for c in catalog.configurations(part=PART, base=b)]
     out = tmp_path_factory.mktemp("sim_library")
     build_library(
-        configs, WorkflowSettings.from_config(cfg), Resistance("normal", 5.0, 10.0),
+        configs, WorkflowSettings.from_config(cfg),
         ("coacd", "hull"), repo_path(cfg.paths.cache), out, workers=2, progress=False,
     )  # fmt: skip
     return out

@@ -1,4 +1,4 @@
-"""Train the generalists of issue 32 on the gated reward, two at a time, resumable, and keep each
+"""Train the generalists on the gated reward, two at a time, resumable, and keep each
 finished run in experiments/generalist/<recipe>/s<seed>/ (slim last checkpoint, metrics, the
 launches' wall times, the Hydra config).
 

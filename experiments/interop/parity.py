@@ -1,10 +1,10 @@
-"""Issue 17: the exported URDFs in PyBullet against the built MJCFs in MuJoCo; writes report.md.
+"""The exported URDFs in PyBullet against the exported MJCFs in MuJoCo; writes report.md.
 
     PYTHONPATH=. nice -n 10 python experiments/interop/parity.py [--work DIR] [--out FILE]
 
-A sample of six configurations (two per kind, every category twice) is built in high and smooth
-resistance into a scratch library (`--work`, a temporary folder by default; part meshes come from
-the project's cache) and exported to URDF with `realikea/export`. Each is pulled at its
+A sample of six configurations (two per kind, every category twice) is built into a scratch
+library (`--work`, a temporary folder by default; part meshes come from the project's cache) and
+exported to URDF and MJCF at each resistance mode with `realikea/export`. Each is pulled at its
 handle with 0.5x, 1.2x and 2x its breakaway force for 1 s in both simulators (same pull, same
 2 ms step, gravity on). Every two-point part on `drawer_w60_h20`, plus the sample's door, is then
 probed with the Franka Hand's 9 mm fingertip in both simulators with both collision sources. Last,
@@ -15,21 +15,13 @@ its damping against a damping applied by hand, joint limits, creep, and collisio
 from __future__ import annotations
 
 import argparse
-import json
 import resource
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
-from realikea.assets.build import WorkflowSettings, build_library
-from realikea.assets.catalog import Catalog, Configuration
 from realikea.assets.library import load_model
-from realikea.config import load_config
-from realikea.export.driver import export_configurations, export_folder
-from realikea.export.metadata import resistance_modes
-from realikea.export.model import read_articulation
 from realikea.files import repo_path
 from realikea.interop import probe
 from realikea.interop.parity import (
@@ -42,79 +34,28 @@ from realikea.interop.parity import (
     comparison_time,
     relative_difference,
 )
-from realikea.interop.pull import Trajectory, breakaway_force, mujoco_pull, pybullet_pull
+from realikea.interop.pull import Trajectory, mujoco_pull, pybullet_pull
 from realikea.interop.pybullet_sim import PYBULLET_BODY_DAMPING
-
-SAMPLE = (  # (part, base): two per kind, each category twice
-    ("tp_round_bar_128", "drawer_w60_h20"),
-    ("knob_mushroom_26", "drawer_w80_h40"),
-    ("tp_d_handle_128", "door_left_w40_h80"),
-    ("fp_edge_128", "door_right_w60_h80"),
-    ("knob_round_30", "flap_w60_h40"),
-    ("fp_cup_128", "flap_w60_h40"),
+from realikea.interop.sample import (
+    MODES,
+    MULTIPLES,
+    SOURCES,
+    UNIT,
+    Prepared,
+    prepare,
+    sample_context,
 )
-MODES = ("high", "smooth")
-MULTIPLES = (0.5, 1.2, 2.0)  # x the breakaway force; 1.2x is mid-travel after 1 s
-PROBE_BASE = "drawer_w60_h20"
-SOURCES = ("coacd", "hull")
+
 DEFAULT_OUT = repo_path("experiments/interop/report.md")
-UNIT = {"slide": "m", "hinge": "rad"}
+PROBE_BASE = "drawer_w60_h20"  # every two-point part is probed on this base
 FINE_STEP = 0.0005  # s: the finer step of the time-step check
 STOP_TOLERANCE = 1e-3  # a front within this fraction of its range's upper end is at its stop
-
-
-@dataclass(frozen=True)
-class Prepared:
-    """One configuration built in one mode and exported: paths and what the pull needs."""
-
-    config: Configuration
-    mode: str
-    mjcf: Path
-    urdf: Path
-    metadata: dict
-    handle: list[float]
-
-    @property
-    def joint(self) -> dict:
-        """metadata.json's `joint`: type, anchor, axis and range in the cabinet frame."""
-        return self.metadata["joint"]
-
-    @property
-    def breakaway(self) -> float:
-        """N at the handle that balance the joint's friction as built."""
-        joint = self.joint
-        frictionloss = self.metadata["resistance"]["built"]["frictionloss"]
-        return breakaway_force(
-            joint["type"], frictionloss, joint["anchor"], joint["axis"], self.handle
-        )
-
-
-def prepare(configs, mode, sources, work: Path, settings, cache_root) -> dict[tuple, Prepared]:
-    """Build `configs` in resistance `mode` and export their URDFs for `sources`."""
-    resistance = next(m for m in resistance_modes() if m.name == mode)
-    library, exports = work / f"library_{mode}", work / f"export_{mode}"
-    build_library(configs, settings, resistance, SOURCES, cache_root, library, progress=False)
-    prepared = {}
-    for source in sources:
-        export_configurations(configs, "urdf", source, library, exports, progress=False)
-        for c in configs:
-            folder = export_folder(exports, "urdf", source, c.id)
-            mjcf = library / c.id / f"model_{source}.xml"
-            prepared[(c.id, source)] = Prepared(
-                c,
-                mode,
-                mjcf,
-                folder / f"model_{source}.urdf",
-                json.loads((folder / "metadata.json").read_text()),
-                read_articulation(mjcf).handle.tolist(),
-            )
-    return prepared
 
 
 def pull_both(
     item: Prepared, force: float, timestep: float | None = None, **pybullet_options
 ) -> tuple[Trajectory, Trajectory]:
-    """The same pull in MuJoCo (built MJCF) and PyBullet (exported URDF), at the MJCF's
+    """The same pull in MuJoCo (exported MJCF) and PyBullet (exported URDF), at the MJCF's
     timestep unless `timestep` is given."""
     joint = item.joint
     reference = mujoco_pull(item.mjcf, force, SECONDS, timestep)
@@ -294,11 +235,12 @@ def unexpressed(prepared: dict[tuple, Prepared]) -> dict:
 def render(pulls, worst, probes, passed, total, missing, command, cost) -> str:
     """report.md."""
     lines = [
-        "# Parity across simulators: PyBullet against MuJoCo (issue 17)",
+        "# Parity across simulators: PyBullet against MuJoCo",
         "",
-        f"Written by `{command}` ({cost}). MuJoCo runs the built MJCF, PyBullet "
-        f"{_pybullet_version()} the URDF `realikea assets export --format urdf` wrote from it "
-        "(`realikea/interop/`). Both step 2 ms (the MJCF's timestep), gravity −9.81 m/s² on. "
+        f"Written by `{command}` ({cost}). MuJoCo runs the MJCF and PyBullet "
+        f"{_pybullet_version()} the URDF that `realikea assets export` wrote at one resistance "
+        "mode from the built library (`realikea/interop/`). Both step 2 ms (the MJCF's "
+        "timestep), gravity −9.81 m/s² on. "
         "The pull is applied at the `handle` site (carried on the part link in PyBullet) along "
         "its direction of opening: the slide's axis, or the tangent of the hinge's circle "
         "through the handle (a torque of force × lever arm). Breakaway force at the handle: the "
@@ -503,25 +445,12 @@ def _pybullet_version() -> str:
     return version("pybullet")
 
 
-def parse_arguments(description: str, out: Path, argv) -> argparse.Namespace:
-    """The options this script and `sapien_check.py` share: a scratch folder, the report's path."""
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
-    parser.add_argument("--out", type=Path, default=out)
-    return parser.parse_args(argv)
-
-
-def sample_context() -> tuple[WorkflowSettings, Path, Catalog, list[Configuration]]:
-    """The workflow settings, the mesh cache, the catalog and SAMPLE's configurations."""
-    cfg = load_config()
-    catalog = Catalog.load()
-    sample = [next(catalog.configurations(part=p, base=b)) for p, b in SAMPLE]
-    return WorkflowSettings.from_config(cfg), repo_path(cfg.paths.cache), catalog, sample
-
-
 def main(argv=None) -> int:
     """Run the sample and write the report."""
-    args = parse_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    args = parser.parse_args(argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, catalog, sample = sample_context()
     probed = [

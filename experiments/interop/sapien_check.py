@@ -1,10 +1,10 @@
-"""Issue 17: the exported URDFs in SAPIEN against the built MJCFs in MuJoCo; writes sapien.md.
+"""The exported URDFs in SAPIEN against the exported MJCFs in MuJoCo; writes sapien.md.
 
     pip install sapien==3.0.3   # not a project dependency: a venv with --system-site-packages
     PYTHONPATH=. nice -n 10 python experiments/interop/sapien_check.py [--work DIR] [--out FILE]
 
-The six configurations of parity.py (two per kind, every category twice), built in high and
-smooth resistance and exported to URDF (CoACD) as parity.py does, are loaded with SAPIEN's URDF
+The six configurations of parity.py (two per kind, every category twice), exported to URDF and
+MJCF (CoACD) at high and smooth resistance as parity.py does, are loaded with SAPIEN's URDF
 loader into a CPU PhysX scene (no renderer: the URDF's <visual> elements are dropped before
 loading, since SAPIEN builds render materials for them and this machine has no Vulkan device)
 and pulled at the handle with 0.5x, 1.2x and 2x their breakaway force for 1 s, as parity.py
@@ -21,6 +21,7 @@ linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
 
 from __future__ import annotations
 
+import argparse
 import re
 import sys
 import tempfile
@@ -31,21 +32,19 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import parity  # noqa: E402  (experiments/interop/parity.py: the sample and its preparation)
-
-from realikea.export.metadata import PART_LINK  # noqa: E402
-from realikea.export.model import read_articulation  # noqa: E402
-from realikea.files import repo_path  # noqa: E402
-from realikea.interop.parity import SECONDS, compare_pull  # noqa: E402
-from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction  # noqa: E402
+from realikea.export.metadata import PART_LINK
+from realikea.export.model import read_articulation
+from realikea.files import repo_path
+from realikea.interop.parity import SECONDS, compare_pull
+from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction
+from realikea.interop.sample import MODES, MULTIPLES, UNIT, Prepared, prepare, sample_context
 
 DEFAULT_OUT = repo_path("experiments/interop/sapien.md")
 BIG = 1e5  # drive damping of the emulated friction (N s/m, N m s/rad): a stiff velocity hold
 MODELS = ("emulated", "as loaded")
 
 
-def sapien_pull(item: parity.Prepared, force: float, model: str, timestep: float) -> Trajectory:
+def sapien_pull(item: Prepared, force: float, model: str, timestep: float) -> Trajectory:
     """Pull an exported URDF in SAPIEN (CPU PhysX) at the handle with `force` newtons along its
     direction of opening, the joint's friction `model` being emulated or as loaded."""
     import sapien
@@ -64,7 +63,7 @@ def sapien_pull(item: parity.Prepared, force: float, model: str, timestep: float
         physics_only.unlink()
     (joint,) = articulation.get_active_joints()
     part = articulation.find_link_by_name("part")
-    resistance = item.metadata["resistance"]["built"]
+    resistance = item.metadata["resistance"]["exported"]
     damping, friction = resistance["damping"], resistance["frictionloss"]
     if model == "emulated":
         for link in articulation.get_links():
@@ -92,7 +91,7 @@ def sapien_pull(item: parity.Prepared, force: float, model: str, timestep: float
 
 def _q(value: float, joint_type: str) -> str:
     """An opening with its unit."""
-    return f"{value:.4f} {parity.UNIT[joint_type]}"
+    return f"{value:.4f} {UNIT[joint_type]}"
 
 
 def _pct(value: float | None) -> str:
@@ -106,7 +105,7 @@ def rows(prepared: dict) -> tuple[list[str], int, int, dict[str, float], int]:
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
     for item in prepared.values():
         joint = item.joint
-        for multiple in parity.MULTIPLES:
+        for multiple in MULTIPLES:
             force = multiple * item.breakaway
             reference = mujoco_pull(item.mjcf, force, SECONDS)
             expected = "still" if multiple < 1 else "opens"
@@ -142,7 +141,7 @@ def render(lines, passed, total, worst, loaded_wrong, command, cost) -> str:
         "SAPIEN as loaded after 1 s | result |\n|---|---|---|---:|---:|---|---|---:|---|"
     )
     largest = ", ".join(f"{kind} {100 * v:.2f} %" for kind, v in worst.items())
-    return f"""# The exported URDF in SAPIEN against MuJoCo (issue 17)
+    return f"""# The exported URDF in SAPIEN against MuJoCo
 
 Written by `{command}` ({cost}); SAPIEN {version("sapien")} (CPU PhysX, no renderer), MuJoCo
 {version("mujoco")}. {__doc__.split(chr(10) + chr(10), 2)[2].strip()}
@@ -168,14 +167,17 @@ probe of report.md), SAPIEN's GPU PhysX.
 def main(argv=None) -> int:
     """Build and export the sample, pull it in both simulators and write the report."""
     warnings.filterwarnings("ignore", module="sapien")
-    args = parity.parse_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    args = parser.parse_args(argv)
     start, cpu = time.perf_counter(), time.process_time()
-    settings, cache_root, _, sample = parity.sample_context()
+    settings, cache_root, _, sample = sample_context()
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
     with tempfile.TemporaryDirectory(prefix="realikea_sapien_") as scratch:
         work = args.work or Path(scratch)
-        for mode in parity.MODES:
-            prepared = parity.prepare(sample, mode, ("coacd",), work, settings, cache_root)
+        for mode in MODES:
+            prepared = prepare(sample, mode, ("coacd",), work, settings, cache_root)
             mode_lines, mode_passed, mode_total, mode_worst, mode_wrong = rows(prepared)
             lines += mode_lines
             loaded_wrong += mode_wrong

@@ -1,4 +1,4 @@
-"""The reward screen (issue 32): train each recipe on the cells where the appendix recipe died,
+"""The reward screen: train each recipe on the cells where the appendix recipe died,
 with both collision sources and several seeds, two runs at a time; keep each finished run in
 experiments/reward_screen/runs/NAME/ (its Hydra config, metrics, slim last checkpoint, wall time).
 

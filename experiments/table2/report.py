@@ -16,11 +16,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from omegaconf import OmegaConf  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
-from realikea.files import CONF_DIR  # noqa: E402
 from realikea.sim.resistance import MODES  # noqa: E402
+from realikea.sim.resistance import mode as resistance_mode
 
 HERE = Path(__file__).resolve().parent
 CATEGORIES = ("knob", "finger_pull", "two_point")
@@ -57,10 +56,10 @@ def cell(rows, policy, category, mode) -> dict | None:
     )
 
 
-def resistance_pull(mode: str, speed: float = 0.1) -> float:
+def resistance_pull(name: str, speed: float = 0.1) -> float:
     """N the front's joint resists with at `speed` m/s: friction loss + damping x speed."""
-    r = OmegaConf.load(CONF_DIR / "resistance" / f"{mode}.yaml")
-    return float(r.frictionloss) + float(r.damping) * speed
+    r = resistance_mode(name)
+    return r.frictionloss + r.damping * speed
 
 
 def plot(presets: dict[str, list[dict]], path: Path) -> None:

@@ -25,8 +25,10 @@ from realikea.assets.workflow import (
     integration,
     segmentation,
 )
+from realikea.config import config_number
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text, staging_dir
+from realikea.sim.resistance import nominal
 from realikea.spawn import process_pool
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
@@ -40,18 +42,6 @@ INDEX_COLUMNS = (
     "mjcf_coacd",
     "mjcf_hull",
 )
-
-
-def config_number(node: DictConfig, key: str, path: str, minimum: float | None = None) -> float:
-    """A numeric config value, or an error naming the key and the bad value."""
-    value = node.get(key)
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise RealIkeaError(f"config value {path}={value!r} is not a number") from None
-    if minimum is not None and number < minimum:
-        raise RealIkeaError(f"config value {path}={value!r} must be >= {minimum:g}")
-    return number
 
 
 @dataclass(frozen=True)
@@ -78,24 +68,6 @@ class WorkflowSettings:
             coacd,
             config_number(wf, "mount_clearance", "workflow.mount_clearance", minimum=0.0),
             config_number(wf, "front_clearance", "workflow.front_clearance", minimum=0.0),
-        )
-
-
-@dataclass(frozen=True)
-class Resistance:
-    """Joint damping and friction loss of one resistance mode."""
-
-    name: str
-    damping: float
-    frictionloss: float
-
-    @classmethod
-    def from_config(cls, cfg: DictConfig) -> Resistance:
-        r = cfg.resistance
-        return cls(
-            str(r.name),
-            config_number(r, "damping", "resistance.damping", minimum=0.0),
-            config_number(r, "frictionloss", "resistance.frictionloss", minimum=0.0),
         )
 
 
@@ -170,16 +142,17 @@ def ensure_part(
 def config_key(
     config: Configuration,
     meshes: PartMeshes,
-    resistance: Resistance,
     settings: WorkflowSettings,
     sources: tuple[str, ...],
 ) -> str:
+    """Cache key of a configuration's folder: its part's meshes, base, friction, the nominal
+    resistance its joint is written with, the front clearance and the collision sources."""
     return content_hash(
         {
             "part": meshes.key,
             "base": config.base.fingerprint(),
             "friction": config.part.friction,
-            "resistance": asdict(resistance),
+            "resistance": asdict(nominal()),
             "front_clearance": settings.front_clearance,
             "sources": sources,
             "steps": CONFIG_STEPS_VERSION,
@@ -196,14 +169,14 @@ def is_current(folder: Path, key: str) -> bool:
 def write_configuration(
     config: Configuration,
     meshes: PartMeshes,
-    resistance: Resistance,
     settings: WorkflowSettings,
     sources: tuple[str, ...],
     out_dir: Path,
 ) -> bool:
     """Steps 5-6 for one configuration into `out_dir/<config id>/`; False if already current."""
     folder = out_dir / config.id
-    key = config_key(config, meshes, resistance, settings, sources)
+    key = config_key(config, meshes, settings, sources)
+    resistance = nominal()
     if is_current(folder, key):
         return False
     row = {
@@ -266,14 +239,14 @@ def build_parts(
 def build_library(
     configs: Iterable[Configuration],
     settings: WorkflowSettings,
-    resistance: Resistance,
     sources: tuple[str, ...],
     cache_root: Path,
     out_dir: Path,
     workers: int | None = None,
     progress: bool = True,
 ) -> BuildReport:
-    """Build configurations in parallel (parts first, then assembly) and rewrite index.csv."""
+    """Build configurations in parallel (parts first, then assembly) and rewrite index.csv.
+    Every joint is written at the nominal resistance; a mode is applied by the scene or export."""
     configs = list({c.id: c for c in configs}.values())
     meshes, parts_built = build_parts(
         (c.part for c in configs), settings, cache_root, workers, progress
@@ -281,9 +254,7 @@ def build_library(
     stale = [
         c
         for c in configs
-        if not is_current(
-            out_dir / c.id, config_key(c, meshes[c.part.id], resistance, settings, sources)
-        )
+        if not is_current(out_dir / c.id, config_key(c, meshes[c.part.id], settings, sources))
     ]
     if stale:
         with process_pool(workers or os.cpu_count() or 1) as pool:
@@ -291,7 +262,6 @@ def build_library(
                 write_configuration,
                 stale,
                 [meshes[c.part.id] for c in stale],
-                [resistance] * len(stale),
                 [settings] * len(stale),
                 [sources] * len(stale),
                 [out_dir] * len(stale),

@@ -7,7 +7,7 @@ import argparse
 import time
 from pathlib import Path
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, Configuration, catalog_dir
 from realikea.assets.gallery import render_gallery
 from realikea.assets.importer import import_part
@@ -21,8 +21,9 @@ from realikea.assets.split import (
 from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
+from realikea.sim.resistance import NOMINAL
 
-OVERRIDES_HELP = "Hydra overrides, e.g. resistance=high asset=knob workflow.coacd.threshold=0.03"
+OVERRIDES_HELP = "Hydra overrides, e.g. asset=knob workflow.coacd.threshold=0.03 paths.library=DIR"
 
 
 def register(parser: argparse.ArgumentParser) -> argparse._SubParsersAction:
@@ -86,7 +87,22 @@ def selected_configurations(args: argparse.Namespace, cfg, catalog: Catalog) -> 
     )
 
 
+def refuse_resistance(overrides: list[str], instead: str) -> None:
+    """Refuse a `resistance` override where the library is read or written, naming `instead`:
+    the built library carries the nominal mode and a mode is applied by the scene or export."""
+    if overrides_set(overrides, "resistance"):
+        raise RealIkeaError(
+            f"the built library is written at the nominal resistance ({NOMINAL}) whatever a run "
+            f"uses; a resistance override does nothing here. {instead}"
+        )
+
+
 def run_build(args: argparse.Namespace) -> int:
+    refuse_resistance(
+        args.overrides,
+        "Training and evaluation apply `resistance=` where they build the scene; an export "
+        "takes `--resistance`.",
+    )
     cfg = load_config(args.overrides)
     configs = selected_configurations(args, cfg, Catalog.load())
     sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
@@ -95,7 +111,6 @@ def run_build(args: argparse.Namespace) -> int:
     report = build_library(
         configs,
         WorkflowSettings.from_config(cfg),
-        Resistance.from_config(cfg),
         sources,
         repo_path(cfg.paths.cache),
         out,

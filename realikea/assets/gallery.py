@@ -11,7 +11,7 @@ from omegaconf import DictConfig
 from PIL import Image, ImageDraw
 from tqdm import tqdm
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library, ensure_part
+from realikea.assets.build import WorkflowSettings, build_library, ensure_part
 from realikea.assets.catalog import Catalog, Configuration
 from realikea.files import atomic_path, repo_path
 
@@ -89,8 +89,7 @@ def render_gallery(cfg: DictConfig, out: Path, n_configs: int = 12) -> Path:
     cache, library = repo_path(cfg.paths.cache), repo_path(cfg.paths.library)
     sample = sample_configurations(catalog, n_configs)
     per_part = [next(catalog.configurations(part=p)) for p in catalog.parts]
-    resistance = Resistance.from_config(cfg)
-    build_library(sample + per_part, settings, resistance, ("coacd", "hull"), cache, library)
+    build_library(sample + per_part, settings, ("coacd", "hull"), cache, library)
     tiles = []
     for config in tqdm(per_part, desc="render parts"):
         _, meshes, _ = ensure_part(config.part, settings, cache)

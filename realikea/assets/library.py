@@ -1,4 +1,4 @@
-"""Read a built library: its index and one configuration's MuJoCo model under a resistance mode."""
+"""Read a built library: its index, one configuration's MuJoCo model, a training draw."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from realikea.assets.build import Resistance, WorkflowSettings, build_library
+from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
@@ -29,19 +29,11 @@ def read_index(library: Path) -> list[dict[str, str]]:
 STRATA = {"category": lambda c: c.part.category, "kind": lambda c: c.base.kind}
 
 
-def load_model(
-    mjcf: Path, damping: float | None = None, frictionloss: float | None = None
-) -> mujoco.MjModel:
-    """Compile one configuration, optionally setting the front joint's resistance."""
+def load_model(mjcf: Path) -> mujoco.MjModel:
+    """Compile one built configuration as written (its joint at the nominal resistance)."""
     if not Path(mjcf).is_file():
         raise RealIkeaError(f"MJCF not found: {mjcf}")
-    model = mujoco.MjModel.from_xml_path(str(mjcf))
-    dof = model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, FRONT_JOINT)]
-    if damping is not None:
-        model.dof_damping[dof] = damping
-    if frictionloss is not None:
-        model.dof_frictionloss[dof] = frictionloss
-    return model
+    return mujoco.MjModel.from_xml_path(str(mjcf))
 
 
 def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
@@ -85,7 +77,6 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     build_library(  # a no-op for configurations that are already current
         list({c.id: c for c in chosen}.values()),
         WorkflowSettings.from_config(cfg),
-        Resistance.from_config(cfg),
         ("coacd", "hull"),
         repo_path(cfg.paths.cache),
         library,

@@ -9,11 +9,17 @@ import time
 from pathlib import Path
 
 from realikea.assets.catalog import Catalog
-from realikea.assets.commands import OVERRIDES_HELP, selected_configurations
+from realikea.assets.commands import OVERRIDES_HELP, refuse_resistance, selected_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.export import FORMATS, SOURCES
 from realikea.files import repo_path
+from realikea.sim.resistance import MODES, NOMINAL, mode
+
+RESISTANCE_HELP = (
+    f"the joint resistance the models carry (default: {NOMINAL}); recorded in each "
+    "metadata.json as resistance.exported"
+)
 
 
 def register(commands: argparse._SubParsersAction) -> None:
@@ -36,6 +42,7 @@ def register(commands: argparse._SubParsersAction) -> None:
         "--collision", choices=SOURCES, help="collision source (default: the config's collision)"
     )
     export.add_argument("--out", type=Path, required=True, help="output folder")
+    export.add_argument("--resistance", choices=MODES, default=NOMINAL, help=RESISTANCE_HELP)
     export.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
     export.set_defaults(run=run_export)
 
@@ -62,6 +69,7 @@ def register(commands: argparse._SubParsersAction) -> None:
     release.add_argument(
         "--formats", nargs="+", choices=FORMATS, default=list(FORMATS), help="(default: all)"
     )
+    release.add_argument("--resistance", choices=MODES, default=NOMINAL, help=RESISTANCE_HELP)
     release.add_argument(
         "--counts",
         action="store_true",
@@ -96,16 +104,23 @@ def run_export(args: argparse.Namespace) -> int:
     # imported here: the USD exporter loads usd-core's pxr, 0.4 s no other command needs
     from realikea.export.driver import export_configurations
 
+    refuse_resistance(args.overrides, "Give the exported mode as --resistance MODE.")
     cfg = load_config(args.overrides)
     configs = selected_configurations(args, cfg, Catalog.load())
     source = args.collision or str(cfg.collision.source)
     start = time.perf_counter()
     report = export_configurations(
-        configs, args.format, source, repo_path(cfg.paths.library), args.out
+        configs,
+        args.format,
+        source,
+        repo_path(cfg.paths.library),
+        args.out,
+        resistance=mode(args.resistance),
     )
     seconds = time.perf_counter() - start
     print(
-        f"{len(configs)} configurations ({args.format}, {source}) in {seconds:.1f} s:"
+        f"{len(configs)} configurations ({args.format}, {source}, {args.resistance}) in "
+        f"{seconds:.1f} s:"
         f" exported {report.exported}, up to date {report.current}"
     )
     print(f"folder: {report.folder}")
@@ -123,11 +138,17 @@ def run_release(args: argparse.Namespace) -> int:
         return 0
     if args.out is None:
         raise RealIkeaError("give the release folder: --out DIR (or --counts)")
+    refuse_resistance(args.overrides, "Give the released mode as --resistance MODE.")
     cfg = load_config(args.overrides)
     configs = release.library_configurations()
     start = time.perf_counter()
     report = release.release_library(
-        configs, repo_path(cfg.paths.library), args.out, args.formats, args.collision
+        configs,
+        repo_path(cfg.paths.library),
+        args.out,
+        args.formats,
+        args.collision,
+        resistance=mode(args.resistance),
     )
     seconds = time.perf_counter() - start
     for name, exported in report.exported.items():

@@ -1,6 +1,7 @@
 """Export many built configurations into one format: check the request, then write each
 configuration into a staging folder renamed into place, skipping those already complete and
 current.
+Each model carries one resistance mode, applied here to the library's nominal joint.
 
 Layout: `OUT/<format>_<collision>/<config id>/` holds `model_<collision>.urdf|.usd|.xml`, the
 meshes it references (URDF, MJCF; USD stores them in the file) and `metadata.json`, whose
@@ -20,14 +21,11 @@ from tqdm import tqdm
 from realikea.assets.catalog import Configuration, content_hash
 from realikea.errors import RealIkeaError
 from realikea.export import SOURCES, mjcf, urdf, usd
-from realikea.export.metadata import (
-    PART_LINK,
-    configuration_metadata,
-    resistance_modes,
-)
-from realikea.export.model import Articulation, read_articulation
+from realikea.export.metadata import PART_LINK, configuration_metadata
+from realikea.export.model import Articulation, read_articulation, with_resistance
 from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, report_rows
 from realikea.files import repo_path, shown_path, staging_dir
+from realikea.sim.resistance import Resistance, modes, nominal
 
 EXPORT_VERSION = "1"  # bump when an exporter or metadata.json changes what it writes
 LISTED = 5  # configurations named in an error before "and n more"
@@ -122,16 +120,19 @@ def export_configurations(
     library: Path,
     out: Path,
     *,
+    resistance: Resistance | None = None,
     fidelity_csv: Path | None = None,
     progress: bool = True,
 ) -> ExportReport:
-    """Export `configs` built in `library` as `fmt` with collision `source` under `out`."""
+    """Export `configs` built in `library` as `fmt` with collision `source` under `out`, their
+    joints at `resistance` (default: the nominal mode)."""
     library, out = Path(library), Path(out)
     check_request(configs, fmt, source, library, out)
     exporter = EXPORTERS[fmt]
     fidelity_csv = Path(fidelity_csv) if fidelity_csv is not None else repo_path(REPORT_CSV)
     rows = report_rows(fidelity_csv)
-    modes = resistance_modes()
+    resistance = resistance or nominal()
+    every_mode = modes()
     certificates: dict[str, dict] = {}  # by the meshes' digest: once per part
     exported = 0
     bar = tqdm(configs, desc=f"export {fmt} ({source})", disable=not progress or len(configs) < 2)
@@ -144,14 +145,15 @@ def export_configurations(
                 "format": fmt,
                 "source": source,
                 "version": EXPORT_VERSION,
-                "modes": [asdict(m) for m in modes],
+                "modes": [asdict(m) for m in every_mode],
+                "resistance": asdict(resistance),
                 "fidelity": rows.get(config.part.id),
             }
         )
         folder = export_folder(out, fmt, source, config.id)
         if is_current(folder, key):
             continue
-        articulation = read_articulation(built / f"model_{source}.xml")
+        articulation = with_resistance(read_articulation(built / f"model_{source}.xml"), resistance)
         part = articulation.link(PART_LINK)
         visual = next(s.mesh for s in part.shapes if s.visual and s.mesh is not None)
         pieces = [s.mesh for s in part.shapes if s.collides]
@@ -176,7 +178,13 @@ def export_configurations(
                 "build_key": build_key,
             }
             metadata = configuration_metadata(
-                config, articulation, visual, modes, certificates[digest], export
+                config,
+                articulation,
+                visual,
+                every_mode,
+                resistance.name,
+                certificates[digest],
+                export,
             )
             (tmp / "metadata.json").write_text(json.dumps(metadata, indent=1) + "\n")
         exported += 1

@@ -8,20 +8,16 @@ viewer's right, +z up) with the front closed, unless a field says otherwise.
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 import trimesh
-from omegaconf import OmegaConf
 
-from realikea.assets.build import Resistance
 from realikea.assets.catalog import Configuration
 from realikea.assets.catch_geometry import BarCatch, LipCatch, NoCatch, catch_features_at
 from realikea.export.model import Articulation, quat_wxyz
-from realikea.files import CONF_DIR
-from realikea.sim.resistance import handle_resistance, lever_arm
+from realikea.sim.resistance import Resistance, handle_resistance, lever_arm
 from realikea.sim.robot import PAD_HALF
 
 PART_LINK = "part"  # the body the part is mounted as (workflow step 5)
@@ -37,56 +33,40 @@ RESISTANCE_UNITS = {
 }
 
 
-def resistance_modes() -> list[Resistance]:
-    """Every resistance mode in realikea/conf/resistance/ (smooth, normal, high), mildest first."""
-    modes = [
-        Resistance.from_config(OmegaConf.create({"resistance": OmegaConf.load(path)}))
-        for path in (CONF_DIR / "resistance").glob("*.yaml")
-    ]
-    return sorted(modes, key=lambda m: (m.frictionloss, m.damping, m.name))
-
-
 def _vector(values) -> list[float]:
     return [float(v) for v in values]
 
 
 def joint_record(articulation: Articulation) -> dict:
     """The front's joint: type, anchor and axis in the cabinet frame, range."""
-    link = articulation.moving_link
-    joint = link.joint
+    joint = articulation.moving_link.joint
+    anchor, axis = articulation.joint_anchor_axis()
     return {
         "name": joint.name,
         "type": joint.type,
-        "anchor": _vector(link.pose[:3, :3] @ np.asarray(joint.pos) + link.pose[:3, 3]),
-        "axis": _vector(link.pose[:3, :3] @ np.asarray(joint.axis)),
+        "anchor": _vector(anchor),
+        "axis": _vector(axis),
         "range": list(joint.range),
         "range_unit": "m" if joint.type == "slide" else "rad",
     }
 
 
-def resistance_record(articulation: Articulation, modes: list[Resistance]) -> dict:
-    """Damping and friction of every mode as the build would write them for this configuration
-    (a hinge's scaled to its handle's lever arm, `realikea/sim/resistance.py`), and which mode
-    the exported model was built with (`custom` if none matches)."""
+def resistance_record(articulation: Articulation, modes: list[Resistance], mode: str) -> dict:
+    """Damping and friction of every mode for this configuration (a hinge's scaled to its
+    handle's lever arm, `realikea/sim/resistance.py`), and the mode the exported model carries
+    (`articulation` is already at it: `with_resistance`)."""
     joint = articulation.moving_link.joint
-    record = joint_record(articulation)
     lever = None
     if joint.type == "hinge":
-        lever = lever_arm(record["anchor"], record["axis"], articulation.handle)
+        lever = lever_arm(*articulation.joint_anchor_axis(), articulation.handle)
     scaled = {}
     for m in modes:
         damping, frictionloss = handle_resistance(
             joint.type, lever or 0.0, m.damping, m.frictionloss
         )
         scaled[m.name] = {"damping": damping, "frictionloss": frictionloss}
-    built = {"damping": joint.damping, "frictionloss": joint.frictionloss}
-    matches = [
-        name
-        for name, values in scaled.items()
-        if all(math.isclose(values[k], built[k], rel_tol=1e-5, abs_tol=1e-9) for k in built)
-    ]
     return {
-        "built": {"mode": matches[0] if matches else "custom", **built},
+        "exported": {"mode": mode, "damping": joint.damping, "frictionloss": joint.frictionloss},
         "modes": scaled,
         "at_handle": {
             m.name: {"damping": m.damping, "frictionloss": m.frictionloss} for m in modes
@@ -166,6 +146,7 @@ def configuration_metadata(
     articulation: Articulation,
     visual: Path,
     modes: list[Resistance],
+    mode: str,
     certificate: dict,
     export: dict,
 ) -> dict:
@@ -182,7 +163,7 @@ def configuration_metadata(
         "units": UNITS,
         "frame": FRAME,
         "joint": joint_record(articulation),
-        "resistance": resistance_record(articulation, modes),
+        "resistance": resistance_record(articulation, modes, mode),
         "dimensions": key_dimensions(config),
         "part_bounds": part_bounds(articulation, visual),
         "mass_model": mass_model(articulation),

@@ -1,15 +1,16 @@
 """A built configuration read back from its MJCF as links, one joint, shapes and masses: what every
 exporter writes (metres, kilograms, radians; the cabinet frame with the front closed).
 
-Structure and masses come from MuJoCo's compiled model (body poses, the joint's range, damping
-and friction loss as the build wrote them, masses and inertias); each geom's pose and mesh file
-come from the XML, because MuJoCo recentres a compiled mesh geom on its own centre of mass.
+Structure and masses come from MuJoCo's compiled model (body poses, the joint's range, masses
+and inertias); each geom's pose and mesh file come from the XML, because MuJoCo recentres a
+compiled mesh geom on its own centre of mass. The joint's damping and friction loss are the
+library's nominal ones until `with_resistance` sets the exported mode.
 """
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import mujoco
@@ -20,6 +21,7 @@ from realikea.assets.cache import link_or_copy
 from realikea.assets.library import FRONT_JOINT
 from realikea.assets.workflow.assembly import SOLID_GROUP, VISUAL_GROUP, Joint
 from realikea.errors import RealIkeaError
+from realikea.sim.resistance import Resistance, handle_resistance, lever_arm
 
 ROOT = "carcass"  # the one static link: every body welded to the world (the unit and the carcass)
 JOINT_TYPES = {int(mujoco.mjtJoint.mjJNT_SLIDE): "slide", int(mujoco.mjtJoint.mjJNT_HINGE): "hinge"}
@@ -86,6 +88,13 @@ class Articulation:
     def moving_link(self) -> Link:
         """The link the front's joint moves."""
         return next(link for link in self.links if link.joint is not None)
+
+    def joint_anchor_axis(self) -> tuple[np.ndarray, np.ndarray]:
+        """The front joint's anchor and unit axis in the cabinet frame."""
+        link = self.moving_link
+        rotation = link.pose[:3, :3]
+        anchor = rotation @ np.asarray(link.joint.pos) + link.pose[:3, 3]
+        return anchor, rotation @ np.asarray(link.joint.axis)
 
     def link(self, name: str) -> Link:
         return next(link for link in self.links if link.name == name)
@@ -181,3 +190,17 @@ def link_mesh_files(articulation: Articulation, folder: Path) -> dict[Path, str]
         link_or_copy(source, folder / rel)
         relative[source] = rel.as_posix()
     return relative
+
+
+def with_resistance(articulation: Articulation, mode: Resistance) -> Articulation:
+    """The articulation with its front joint at one resistance mode, a hinge's scaled to its
+    handle's lever arm as the scene scales it (`realikea/sim/resistance.py`)."""
+    link = articulation.moving_link
+    anchor, axis = articulation.joint_anchor_axis()
+    lever = lever_arm(anchor, axis, articulation.handle) if link.joint.type == "hinge" else 0.0
+    damping, frictionloss = handle_resistance(
+        link.joint.type, lever, mode.damping, mode.frictionloss
+    )
+    joint = replace(link.joint, damping=damping, frictionloss=frictionloss)
+    links = [replace(x, joint=joint) if x is link else x for x in articulation.links]
+    return replace(articulation, links=links)

@@ -31,8 +31,8 @@ from realikea.export.driver import (
     export_configurations,
     export_folder,
 )
-from realikea.export.metadata import resistance_modes
 from realikea.files import CATALOG_DIR, atomic_path, atomic_write_text, repo_path
+from realikea.sim.resistance import MODES, Resistance
 
 CARD = "DATASET.md"  # the dataset card, at the repository root and in every release
 MANIFEST = "manifest.json"
@@ -80,7 +80,7 @@ def catalog_counts(catalog: Catalog | None = None) -> dict:
         "bases_per_kind": {k: sum(b.kind == k for b in bases) for k in BASE_KINDS},
         "configurations": catalog.n_configurations,
         "collision_sources": list(SOURCES),
-        "resistance_modes": [m.name for m in resistance_modes()],
+        "resistance_modes": list(MODES),
         "formats": list(FORMATS),
         "model_folders": catalog.n_configurations * len(SOURCES) * len(FORMATS),
     }
@@ -176,7 +176,7 @@ def build_manifest(
     progress: bool = True,
 ) -> dict:
     """The manifest of a release folder: the release-level files (the card) and, per
-    configuration, its ids, the resistance mode its models were built with, its fidelity
+    configuration, its ids, the resistance mode its models carry, its fidelity
     certificate per collision source and every file of every export folder; with totals of
     files and bytes (the manifest itself excluded) and per folder."""
     out = Path(out)
@@ -209,7 +209,7 @@ def build_manifest(
             files, problem = _folder_files(folder, metadata)
             if problem:
                 broken.append(f"{folder}: {problem}")
-            mode = metadata["resistance"]["built"]["mode"]
+            mode = metadata["resistance"]["exported"]["mode"]
             _same(record, "resistance_mode", mode, config.id, "the resistance mode")
             certificate = metadata["fidelity_certificate"]
             _same(certificates, source, certificate, config.id, f"the {source} certificate")
@@ -289,12 +289,14 @@ def release_library(
     formats: Sequence[str] = FORMATS,
     sources: Sequence[str] = SOURCES,
     *,
+    resistance: Resistance | None = None,
     card: Path | None = None,
     fidelity_csv: Path | None = None,
     progress: bool = True,
 ) -> ReleaseReport:
     """Export `configs` built in `library` in every format of `formats` with every collision
-    source of `sources` under `out`, copy the dataset card in and write the manifest last."""
+    source of `sources` under `out`, their joints at `resistance` (default: the nominal mode),
+    copy the dataset card in and write the manifest last."""
     library, out = Path(library), Path(out)
     formats, sources = _unique(formats), _unique(sources)
     card = Path(card) if card is not None else repo_path(CARD)
@@ -307,7 +309,14 @@ def release_library(
     pairs = [(fmt, source) for fmt in formats for source in sources]
     for fmt, source in tqdm(pairs, desc="release", disable=not progress):
         report = export_configurations(
-            configs, fmt, source, library, out, fidelity_csv=fidelity_csv, progress=progress
+            configs,
+            fmt,
+            source,
+            library,
+            out,
+            resistance=resistance,
+            fidelity_csv=fidelity_csv,
+            progress=progress,
         )
         exported[f"{fmt}_{source}"], current[f"{fmt}_{source}"] = report.exported, report.current
     _copy_card(card, out)

@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 
 from realikea.assets.catalog import CATEGORIES, effective_split
-from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count
 from realikea.files import shown_path
 from realikea.policies.registry import POLICIES
 from realikea.reports.multiplicity import Difference
+from realikea.sim.resistance import mode
 
 # the axes' default values; their sources are in experiments/fidelity_ablation/phase_map.md
 FORCES = (5.0, 10.0, 20.0, 40.0, 70.0)  # N per jaw
@@ -81,7 +81,7 @@ def check_axes(forces, frictions, cones, categories) -> None:
 def required_pull(resistance: str = RESISTANCE) -> float:
     """N a drawer needs at its handle to break away in `resistance` (its joint's friction loss;
     realikea/conf/resistance)."""
-    return float(load_config([f"resistance={resistance}"], "config").resistance.frictionloss)
+    return mode(resistance).frictionloss
 
 
 def cell_overrides(

@@ -29,7 +29,7 @@ from omegaconf import DictConfig
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import yaw_quat
 from realikea.sim.kitchen import add_kitchen, read_unit
-from realikea.sim.resistance import handle_resistance, lever_arm
+from realikea.sim.resistance import Resistance, handle_resistance, lever_arm
 from realikea.sim.robot import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -224,11 +224,9 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
     eye = handle + np.array([1.35, -1.3, 0.95])  # the overview camera, aimed at the handle
     spec.worldbody.add_camera(name="overview", pos=eye, quat=_look_at(eye, handle + [0.22, 0, 0]))
     joint = spec.joint(FRONT_JOINT)
+    mode = Resistance.from_config(cfg)
     damping_value, friction_value = handle_resistance(
-        front.joint_type,
-        front.lever,
-        float(cfg.resistance.damping),
-        float(cfg.resistance.frictionloss),
+        front.joint_type, front.lever, mode.damping, mode.frictionloss
     )
     damping = np.array(joint.damping, dtype=float, ndmin=1)  # MuJoCo 4: polynomial coefficients
     damping[0] = damping_value
