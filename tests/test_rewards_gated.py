@@ -4,6 +4,7 @@ the grasp gates, on scripted policies in the kitchen (pinch, hook, lever, a clos
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -90,6 +91,29 @@ def test_straddle_is_between_the_inner_faces():
     assert not straddles(left, right, [0.0, 0.003, 0.0], 0.02, 0.0045)  # inside a pad
     closed = [0.0, 0.009, 0.0]  # pad centres of closed jaws: the inner faces meet
     assert not straddles(left, closed, [0.0, 0.0045, 0.0], 0.02, 0.0045)
+
+
+def test_the_centre_term_pays_straddling_on_the_pads_line_and_never_outbids_a_grasp():
+    """`w_center` (0 in the default recipe): in stage 3 jaws centred on the handle earn
+    w_center more than jaws straddling it at the edge of the radius, and no straddle earns what
+    a grasp does."""
+    centred = GatedParams(w_center=5.0)
+
+    def reward(offset: float, engaged: bool = False) -> tuple[int, float]:
+        v = StepValues(
+            3, 0.3, 0.01, 0.5, 0.0, 0.0, True, engaged, [0.0] * 5, [0.0] * 5, [0.0] * 5, True,
+            offset,
+        )  # fmt: skip
+        v = dataclasses.replace(v, stage=next_stage(3, v, centred))
+        return v.stage, sum(value for _, value in GATED.weighted_terms(v, centred))
+
+    (stage_on, on_line), (stage_edge, at_edge) = reward(0.0), reward(centred.straddle_radius)
+    assert stage_on == stage_edge == 3
+    assert on_line - at_edge == pytest.approx(centred.scale * centred.w_center)
+    assert reward(0.0, engaged=True)[1] > on_line
+    assert P.w_center == 0.0
+    with pytest.raises(RealIkeaError, match=r"w_close \+ w_center"):
+        GatedParams(w_center=6.0)  # beta = 10 < 5 + 6
 
 
 def test_an_unknown_variant_is_refused_with_the_list_of_variants():

@@ -52,6 +52,9 @@ RECIPES = {
     # one change of the gated recipe undone at a time
     "gated_lockstep": ["task/reward=gated", "agent.init_at_random_ep_len=false"],
     "gated_unscaled": ["task/reward=gated", "task.reward.scale=1.0"],
+    # the gated recipe paying, in stage 3, the jaws centred on the handle (w_center): two of
+    # its runs ended straddling the handle without gripping it
+    "gated_centred": ["task/reward=gated", "task.reward.w_center=5.0"],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -27,6 +27,7 @@ class Grip(NamedTuple):
     left: bool  # the left finger (pad or body) touches the part
     right: bool  # the right finger touches the part
     hooked: bool  # a finger touches the part where the part's surface faces the front panel
+    offset: float = math.inf  # m: the handle site from the line joining the pads (inf: not between)
 
     @property
     def pinched(self) -> bool:
@@ -40,21 +41,27 @@ class Grip(NamedTuple):
 NO_GRIP = Grip(False, False, False, False)
 
 
-def straddles(left, right, site, radius: float, inset: float) -> bool:
-    """Whether `site` lies between the pads' inner faces, `inset` from the pad centres `left` and
-    `right` (3 floats each) along the line joining them, and within `radius` of that line (plain
-    floats: this runs every env-step). Closed jaws straddle nothing: their inner faces meet."""
+def straddle_offset(left, right, site, inset: float) -> float:
+    """The distance (m) of `site` from the line joining the pad centres `left` and `right` (3
+    floats each) where it lies between the pads' inner faces, `inset` from the centres along that
+    line; inf where it does not (plain floats: this runs every env-step). Closed jaws straddle
+    nothing: their inner faces meet."""
     ax, ay, az = right[0] - left[0], right[1] - left[1], right[2] - left[2]
     width = math.sqrt(ax * ax + ay * ay + az * az)
     if width <= 2.0 * inset:
-        return False
+        return math.inf
     ax, ay, az = ax / width, ay / width, az / width
     hx, hy, hz = site[0] - left[0], site[1] - left[1], site[2] - left[2]
     along = hx * ax + hy * ay + hz * az
     if not inset < along < width - inset:
-        return False
+        return math.inf
     px, py, pz = hx - along * ax, hy - along * ay, hz - along * az
-    return math.sqrt(px * px + py * py + pz * pz) < radius
+    return math.sqrt(px * px + py * py + pz * pz)
+
+
+def straddles(left, right, site, radius: float, inset: float) -> bool:
+    """Whether `site` lies between the pads' inner faces and within `radius` of their line."""
+    return straddle_offset(left, right, site, inset) < radius
 
 
 class GripSensor:
@@ -76,7 +83,7 @@ class GripSensor:
         `hook_cos`."""
         xpos = data.geom_xpos
         left, right = xpos[self.pads[0]].tolist(), xpos[self.pads[1]].tolist()
-        straddle = straddles(left, right, site, radius, self.inset)
+        offset = straddle_offset(left, right, site, self.inset)
         touching, hooked = [False, False], False
         ncon = data.ncon
         if ncon:
@@ -92,4 +99,4 @@ class GripSensor:
                     facing = -(nx * u[0] + ny * u[1] + nz * u[2])  # the part's normal along -u
                     if (facing if first[k] else -facing) > hook_cos:
                         hooked = True
-        return Grip(straddle, touching[0], touching[1], hooked)
+        return Grip(offset < radius, touching[0], touching[1], hooked, offset)

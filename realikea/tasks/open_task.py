@@ -210,6 +210,7 @@ class OpenTask:
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
+            grip.offset,
         )  # fmt: skip
 
     def pull_direction(self) -> np.ndarray:

@@ -15,6 +15,8 @@ contribution active under mutually exclusive gating". Here, every step:
   joining them, as Isaac Lab's cabinet task gates on the fingers being on either side of the
   handle; this replaces a 2 cm ball around a point 6 mm inside the handle's surface, reachable
   or not depending on the collision geometry (4 dead runs ended at stage 2's level);
+  `w_center` (0 by default) adds a term for the handle site's nearness to that line, so the
+  jaws close on the handle rather than beside it;
 - stage 2: within tau1 of the pre-grasp target t1, or within `refine_radius` of t2;
 - stage 1 otherwise. A lost grasp returns the stage to the approach.
 
@@ -51,6 +53,7 @@ class GatedParams(StageParams):
     scale: float = 0.01
     w_open2: float = 2.0
     w_close: float = 5.0
+    w_center: float = 0.0
     w_hold: float = 2.0
     w_progress: float = 40.0
     success_bonus: float = 20.0
@@ -59,10 +62,11 @@ class GatedParams(StageParams):
     hook_angle: float = 70.0
 
     def __post_init__(self):
-        if self.beta < self.w_close:
+        if self.beta < self.w_close + self.w_center:
             raise RealIkeaError(
-                f"task.reward: beta={self.beta} must be >= w_close={self.w_close} (a grasp must "
-                "pay at least what closing the jaws around the handle does)"
+                f"task.reward: beta={self.beta} must be >= w_close + w_center = "
+                f"{self.w_close + self.w_center} (a grasp must pay at least what straddling the "
+                "handle with closed jaws does)"
             )
 
     @cached_property
@@ -102,6 +106,12 @@ def close_term(v: StepValues, p: GatedParams) -> float:
     return min(max(1.0 - v.aperture, 0.0), 1.0) if v.stage == 3 else 0.0
 
 
+def center_term(v: StepValues, p: GatedParams) -> float:
+    """Stage 3: how near the handle site is to the line joining the pads (1 on it, 0 at the
+    straddle's radius), so the jaws close on the handle rather than beside it."""
+    return max(1.0 - v.offset / p.straddle_radius, 0.0) if v.stage == 3 else 0.0
+
+
 def hold_term(v: StepValues, p: GatedParams) -> float:
     """Stage 4: the log approach to t2, so the hand stays at the handle while it pulls."""
     return approach(v.d2, 1.0, p.eps) if v.stage == 4 else 0.0
@@ -122,6 +132,7 @@ TERMS = {
     "stage": (stage_term, None),
     "approach": (approach_term, None),
     "close": (close_term, "w_close"),
+    "center": (center_term, "w_center"),
     "hold": (hold_term, "w_hold"),
     "open": (open_term, "w_progress"),
     "success": (success_term, "success_bonus"),

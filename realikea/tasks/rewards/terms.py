@@ -56,6 +56,7 @@ class StepValues:
     prev_action: list[float]
     prev_prev_action: list[float]
     ik_ok: bool
+    offset: float = math.inf  # m: the handle site from the line joining the pads, if between them
 
 
 def approach(d: float, weight: float, eps: float) -> float:
