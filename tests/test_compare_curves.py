@@ -1,5 +1,5 @@
-"""experiments/compare_curves.py: several runs' training success on one axis (the script run as a
-user runs it; its running mean from the package)."""
+"""experiments/tools/compare_curves.py: several runs' training success on one axis (the script
+run as a user runs it; its running mean from the package)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 from realikea.files import WORKSPACE
 from realikea.training.metrics import running_mean
 
-SCRIPT = WORKSPACE / "experiments" / "compare_curves.py"
+SCRIPT = WORKSPACE / "experiments" / "tools" / "compare_curves.py"
 
 
 def _run(folder, successes):

@@ -39,7 +39,7 @@ def main() -> None:
         earlier = (args.continues / "metrics.csv").read_text().splitlines()
         rows = join_launches(earlier + rows[1:])
     atomic_write_text(out / "metrics.csv", "\n".join(rows) + "\n")
-    plot = HERE.parent / "plot_learning_curve.py"
+    plot = HERE.parent / "tools" / "plot_learning_curve.py"
     curve = out / "learning_curve.png"
     subprocess.run([sys.executable, str(plot), str(out), "--out", str(curve)], check=True)
 

@@ -36,7 +36,7 @@ python "$HERE/keep.py" outputs/generalist/coacd_open2_0_s0 coacd_open2_0
 for name in hull_open2_0 coacd_open2_0; do
   python "$HERE/evaluate.py" "$HERE/$name/model_1499.pt" "$name" --episodes "$EPISODES"
 done
-python experiments/compare_curves.py --switch 900 --out "$HERE/open_jaw_bonus.png" \
+python experiments/tools/compare_curves.py --switch 900 --out "$HERE/open_jaw_bonus.png" \
   --title "generalist, seed 0: training success" \
   "CoACD, w_open2 = 2=$HERE/coacd" "hull, w_open2 = 2=$HERE/hull" \
   "CoACD, w_open2 = 0=$HERE/coacd_open2_0" "hull, w_open2 = 0=$HERE/hull_open2_0"

@@ -35,7 +35,7 @@ How it is computed here, and why it is exact:
   (``trimesh.proximity.closest_point`` is not used: besides being ~70x slower, its
   point-triangle routine uses an absolute tolerance that, at metre scale, misclassifies
   sub-millimetre triangles and returns distances up to 0.3 mm too large; see
-  ``experiments/bench_fidelity.md``.)
+  ``experiments/benchmarks/bench_fidelity.md``.)
 """
 
 from __future__ import annotations

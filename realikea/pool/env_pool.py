@@ -1,10 +1,10 @@
 """N tasks stepped in parallel on all cores, with auto-reset, seeding and self-healing.
 
-Design (measured in experiments/bench_pool.md): about a quarter of a control step is the task's
-Python (mink IK, reward, observation), so threading only the physics substeps (`mujoco.rollout`
-releases the GIL) would leave that serial; instead each worker process owns a slice of the envs
-and runs whole control steps (`realikea/pool/processes.py`). Actions, observations, rewards and
-flags live in one shared-memory block (`realikea/pool/shared.py`).
+Design (measured in experiments/benchmarks/bench_pool.md): about a quarter of a control step is
+the task's Python (mink IK, reward, observation), so threading only the physics substeps
+(`mujoco.rollout` releases the GIL) would leave that serial; instead each worker process owns a
+slice of the envs and runs whole control steps (`realikea/pool/processes.py`). Actions,
+observations, rewards and flags live in one shared-memory block (`realikea/pool/shared.py`).
 
 The pool is task-agnostic: env i is `task_factory(cfg, configurations[i], seed + i)` (the
 contract is `realikea/pool/env_slice.py: EnvSlice`); `from_config` uses the opening task. It owns

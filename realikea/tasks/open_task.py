@@ -401,7 +401,7 @@ def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float) -> float:
     across the handle (vertical on doors). The hand is symmetric under a half turn, so of the
     two rolls that do, a hinged front gets the one whose opening turns the wrist in the positive
     pitch direction, where the Panda's wrist has its range (about +1.5 rad against -0.7 rad for
-    the rolled hand at handle height, `python experiments/reach.py`)."""
+    the rolled hand at handle height, `python experiments/reach/reach.py`)."""
     roll = math.radians(mount_roll_deg % 180.0)
     joint = model.joint(FRONT_JOINT)
     if joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE:

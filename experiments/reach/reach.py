@@ -7,7 +7,7 @@ Method: from the home posture, walk the TCP to the point in 1 cm IK steps at pit
 would), then raise or lower the pitch in 0.04 rad steps (the task's action scale) while the IK
 stays feasible. Prints `down/up` (rad) per point; `x` where the point itself was not reached.
 
-    python experiments/reach.py
+    python experiments/reach/reach.py
 """
 
 import math

@@ -1,6 +1,6 @@
 """Benchmark of the fidelity metric on a realistic part, against a plain trimesh computation.
 
-    python experiments/bench_fidelity.py [--samples 100000] [--repeats 5] [--subset 5000]
+    python experiments/benchmarks/bench_fidelity.py [--samples 100000] [--repeats 5] [--subset 5000]
 
 The part is a two-point bar handle (128 mm centres, 12 mm bar, rounded elbows, rosettes) built
 with manifold3d. Its collision sources are CoACD decompositions (preprocess off, threshold 0.05

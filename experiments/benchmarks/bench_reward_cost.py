@@ -2,7 +2,7 @@
 600 random actions in this process under each variant, alternated twice, then the reward side
 alone (reading the step's values and the weighted terms) 2,000 times on the last state.
 
-    python experiments/bench_reward_cost.py
+    python experiments/benchmarks/bench_reward_cost.py
 
 Prints steps/s and microseconds of reward-side work per step for each variant.
 """

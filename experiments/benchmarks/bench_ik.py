@@ -4,8 +4,8 @@ Both take the same 2,000 steps (random targets within 1 cm and 0.04 rad of a con
 own pose, as the policy commands them, from configurations near home) with the same tasks and
 limits; the plain path keeps its tasks between calls, as the controller did before the change.
 Rounds are interleaved and the best of five is kept (thread CPU time, so other jobs on the
-machine do not inflate it). Writes experiments/bench_ik.md.
-Usage: python experiments/bench_ik.py
+machine do not inflate it). Writes experiments/benchmarks/bench_ik.md.
+Usage: python experiments/benchmarks/bench_ik.py
 """
 
 from __future__ import annotations
@@ -86,7 +86,7 @@ def main() -> None:
     lines = [
         "# IK step benchmark",
         "",
-        "Command: `python experiments/bench_ik.py` (thread CPU time per call, best of "
+        "Command: `python experiments/benchmarks/bench_ik.py` (thread CPU time per call, best of "
         f"{ROUNDS} interleaved rounds of {STEPS} steps; Python {platform.python_version()}, "
         f"mink {version('mink')}, daqp {version('daqp')}).",
         "",

@@ -3,10 +3,10 @@
 # interpreter (Debian/Ubuntu's externally managed /usr/bin/python3, so setup.sh makes .venv),
 # then the quick start's steps one by one. The library that set-up's first command builds
 # (`realikea assets build --all`, about 20 min) is hard-linked from this checkout's build instead.
-# Usage: bash experiments/bench_newcomer.sh [CLONE_DIR]   (default /tmp/realikea_newcomer)
+# Usage: bash experiments/benchmarks/bench_newcomer.sh [CLONE_DIR]   (default /tmp/realikea_newcomer)
 # Each step's output: CLONE_DIR.<step>.log; the timings on stdout.
 set -uo pipefail
-SOURCE="$(cd "$(dirname "$0")/.." && pwd)"
+SOURCE="$(cd "$(dirname "$0")/../.." && pwd)"
 CLONE="${1:-/tmp/realikea_newcomer}"
 export PATH="/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"  # Debian's own
 rm -rf "$CLONE" && git clone -q "$SOURCE" "$CLONE" && cd "$CLONE" || exit 1

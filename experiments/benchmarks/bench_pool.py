@@ -1,6 +1,6 @@
 """Speed of the env pool against the physics limit and gymnasium's AsyncVectorEnv.
 
-    python experiments/bench_pool.py            # writes experiments/bench_pool.md
+    python experiments/benchmarks/bench_pool.py     # writes experiments/benchmarks/bench_pool.md
 
 For each number of envs (configurations of two-point handles on every base, drawn as training
 draws them, CoACD collision, fixed poses) the same work is done three ways, back to back:
@@ -427,7 +427,7 @@ def write_report(args, rows, parts, transfer_ms, wall_ms, prof_rate, prof_limit,
         "",
         "Command (from the repository root):",
         "",
-        "    python experiments/bench_pool.py",
+        "    python experiments/benchmarks/bench_pool.py",
         "",
         f"Machine: {machine()}; MuJoCo {mujoco.__version__}, "
         f"mink {importlib.metadata.version('mink')}, "

@@ -2,7 +2,7 @@
 and (runs over several categories or kinds) success per category x kind, averaged over 25
 iterations.
 
-python experiments/plot_learning_curve.py RUN_DIR [--out FILE]
+python experiments/tools/plot_learning_curve.py RUN_DIR [--out FILE]
 """
 
 from __future__ import annotations

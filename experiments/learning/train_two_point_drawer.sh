@@ -8,7 +8,7 @@ python train.py asset=two_point asset.kind=drawer resistance=smooth collision=co
   task.reward.w_open2=0.0 agent.init_at_random_ep_len=false \
   agent.max_iterations=${ITERATIONS:-700} hydra.run.dir="$run"
 last=$(ls "$run"/model_*.pt | sort -V | tail -1)
-python experiments/plot_learning_curve.py "$run"
+python experiments/tools/plot_learning_curve.py "$run"
 realikea eval policy=checkpoint policy.path="$last" asset=two_point asset.kind=drawer \
   resistance=smooth collision=coacd dr=fixed episodes=50 env.seed=1000 \
   env.num_envs=32

@@ -2,15 +2,16 @@
 side by side, then read each metrics.csv for the first iteration whose success (mean over the
 last WINDOW iterations) reaches TARGET, and the wall time to it.
 
-    python experiments/bench_train.py --run NAME "OVERRIDES" [--run NAME2 "OVERRIDES2" ...] \
-        [--target 0.8] [--tag /episode/success] [--window 10]
+    python experiments/benchmarks/bench_train.py --run NAME "OVERRIDES" \
+        [--run NAME2 "OVERRIDES2" ...] [--target 0.8] [--tag /episode/success] [--window 10]
 
 Runs given together start together and share the machine, so their times compare as a ratio
 even on a loaded machine; give each `env.num_workers=1` to split the 2 cores evenly. Each run
 goes to outputs/bench_train/NAME. Time to an iteration is the process's start-up (composing,
 building missing configurations, starting the pool: the wall time before the first iteration)
 plus rsl-rl's own collection and learning times of every iteration up to it. Prints one
-markdown row per run; record them, with the machine's load, in experiments/bench_train.md.
+markdown row per run; record them, with the machine's load, in
+experiments/benchmarks/bench_train.md.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 fraction), for comparing recipes or collision sources at a glance; the learning curve of each
 run stays in its own folder (plot_learning_curve.py).
 
-python experiments/compare_curves.py --out FILE [--switch IT] [--title T] LABEL=RUN_DIR ...
+python experiments/tools/compare_curves.py --out FILE [--switch IT] [--title T] LABEL=RUN_DIR ...
 """
 
 from __future__ import annotations
