@@ -15,8 +15,10 @@ contribution active under mutually exclusive gating". Here, every step:
   joining them, as Isaac Lab's cabinet task gates on the fingers being on either side of the
   handle; this replaces a 2 cm ball around a point 6 mm inside the handle's surface, reachable
   or not depending on the collision geometry (4 dead runs ended at stage 2's level);
-  `w_center` (0 by default) adds a term for the handle site's nearness to that line, so the
-  jaws close on the handle rather than beside it;
+  `w_center` (0 by default) adds a term for the handle site's nearness to that line, meant to
+  make the jaws close on the handle rather than beside it (at 5 it rescued neither of the two
+  screen runs that ended straddling: it lifts stage 3's best to stage 4's baseline;
+  `experiments/reward_screen/README.md`);
 - stage 2: within tau1 of the pre-grasp target t1, or within `refine_radius` of t2;
 - stage 1 otherwise. A lost grasp returns the stage to the approach.
 
