@@ -33,7 +33,7 @@ UNIT = {"slide": "m", "hinge": "rad"}  # of a front's opening
 
 @dataclass(frozen=True)
 class Prepared:
-    """One configuration built in one mode and exported: paths and what the pull needs."""
+    """One configuration exported at one resistance mode: paths and what the pull needs."""
 
     config: Configuration
     mode: str
