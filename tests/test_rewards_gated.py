@@ -14,7 +14,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.policies.registry import make_policy
 from realikea.policies.scripted import CLOSE, Waypoint, WaypointPolicy
-from realikea.tasks.grip import straddles
+from realikea.tasks.grip import straddle_offset
 from realikea.tasks.open_task import OpenTask
 from realikea.tasks.rewards import VARIANTS, reward_from_config, variant_name
 from realikea.tasks.rewards.gated import GatedParams, next_stage
@@ -86,11 +86,11 @@ def test_a_step_pays_at_most_about_one():
 
 def test_straddle_is_between_the_inner_faces():
     left, right = [0.0, 0.0, 0.0], [0.0, 0.05, 0.0]
-    assert straddles(left, right, [0.0, 0.025, 0.01], 0.02, 0.0045)
-    assert not straddles(left, right, [0.0, 0.025, 0.03], 0.02, 0.0045)  # too far off the line
-    assert not straddles(left, right, [0.0, 0.003, 0.0], 0.02, 0.0045)  # inside a pad
+    assert straddle_offset(left, right, [0.0, 0.025, 0.01], 0.0045) < 0.02
+    assert not straddle_offset(left, right, [0.0, 0.025, 0.03], 0.0045) < 0.02  # off the line
+    assert not straddle_offset(left, right, [0.0, 0.003, 0.0], 0.0045) < 0.02  # inside a pad
     closed = [0.0, 0.009, 0.0]  # pad centres of closed jaws: the inner faces meet
-    assert not straddles(left, closed, [0.0, 0.0045, 0.0], 0.02, 0.0045)
+    assert not straddle_offset(left, closed, [0.0, 0.0045, 0.0], 0.0045) < 0.02
 
 
 def test_the_centre_term_pays_straddling_on_the_pads_line_and_never_outbids_a_grasp():

@@ -14,7 +14,6 @@ its damping against a damping applied by hand, joint limits, creep, and collisio
 
 from __future__ import annotations
 
-import argparse
 import resource
 import sys
 import tempfile
@@ -43,6 +42,7 @@ from realikea.interop.sample import (
     UNIT,
     Prepared,
     prepare,
+    sample_arguments,
     sample_context,
 )
 
@@ -447,10 +447,7 @@ def _pybullet_version() -> str:
 
 def main(argv=None) -> int:
     """Run the sample and write the report."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
-    args = parser.parse_args(argv)
+    args = sample_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, catalog, sample = sample_context()
     probed = [

@@ -21,7 +21,6 @@ linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
 import tempfile
@@ -37,7 +36,15 @@ from realikea.export.model import read_articulation
 from realikea.files import repo_path
 from realikea.interop.parity import SECONDS, compare_pull
 from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction
-from realikea.interop.sample import MODES, MULTIPLES, UNIT, Prepared, prepare, sample_context
+from realikea.interop.sample import (
+    MODES,
+    MULTIPLES,
+    UNIT,
+    Prepared,
+    prepare,
+    sample_arguments,
+    sample_context,
+)
 
 DEFAULT_OUT = repo_path("experiments/interop/sapien.md")
 BIG = 1e5  # drive damping of the emulated friction (N s/m, N m s/rad): a stiff velocity hold
@@ -167,10 +174,7 @@ probe of report.md), SAPIEN's GPU PhysX.
 def main(argv=None) -> int:
     """Build and export the sample, pull it in both simulators and write the report."""
     warnings.filterwarnings("ignore", module="sapien")
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
-    args = parser.parse_args(argv)
+    args = sample_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, _, sample = sample_context()
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0

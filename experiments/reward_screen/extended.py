@@ -1,6 +1,7 @@
 """The screen's runs trained past 400 iterations (exploratory, not part of the screen): where each
-passed 50 % training success, and its success, opening and stage-4 share over its last 20
-iterations. Reads experiments/reward_screen/extended/NAME/metrics.csv; prints a markdown table.
+passed 50 % training success (as `report.py` counts it: the first iteration of the window), and
+its success, opening and stage-4 share over its last 20 iterations. Reads
+experiments/reward_screen/extended/NAME/metrics.csv; prints a markdown table.
 
     python experiments/reward_screen/extended.py
 """
@@ -8,11 +9,14 @@ iterations. Reads experiments/reward_screen/extended/NAME/metrics.csv; prints a 
 from __future__ import annotations
 
 from realikea.files import WORKSPACE
-from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
+from realikea.reports.fidelity_ablation.runs import (
+    SUCCESS_WINDOW,
+    iterations_to_success,
+    trailing_mean,
+)
 from realikea.training.metrics import read_metrics
 
 EXTENDED = WORKSPACE / "experiments/reward_screen/extended"
-LEARNED = 0.5  # as in screen.py
 
 
 def main() -> int:
@@ -20,13 +24,13 @@ def main() -> int:
     print("|---|---|---:|---:|---:|---:|")
     for run in sorted(p for p in EXTENDED.iterdir() if (p / "metrics.csv").is_file()):
         metrics = read_metrics(run)
-        its, success = trailing_mean(*metrics["/episode/success"], SUCCESS_WINDOW)
-        first = next((int(i) for i, s in zip(its, success, strict=True) if s >= LEARNED), None)
+        first = iterations_to_success({"metrics": metrics})
         last = [
             trailing_mean(*metrics[tag], SUCCESS_WINDOW)[1][-1]
             for tag in ("/episode/success", "/episode/opening", "/end_stage/4")
         ]
-        span = f"{min(metrics['/episode/success'][0])}-{int(its[-1])}"
+        its = metrics["/episode/success"][0]
+        span = f"{min(its)}-{max(its)}"
         learned = "never" if first is None else str(first)
         print(
             f"| {run.name} | {span} | {learned} | {last[0]:.2f} | {last[1]:.3f} | {last[2]:.2f} |"

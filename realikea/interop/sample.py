@@ -4,6 +4,7 @@ into a scratch library and exported to URDF and MJCF at each resistance mode."""
 
 from __future__ import annotations
 
+import argparse
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -88,3 +89,11 @@ def sample_context() -> tuple[WorkflowSettings, Path, Catalog, list[Configuratio
     catalog = Catalog.load()
     sample = [next(catalog.configurations(part=p, base=b)) for p, b in SAMPLE]
     return WorkflowSettings.from_config(cfg), repo_path(cfg.paths.cache), catalog, sample
+
+
+def sample_arguments(description: str, out: Path, argv=None) -> argparse.Namespace:
+    """The options both checks take: a scratch folder and the report's path."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--work", type=Path, help="scratch folder (default: a temporary one)")
+    parser.add_argument("--out", type=Path, default=out)
+    return parser.parse_args(argv)

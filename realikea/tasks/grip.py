@@ -59,11 +59,6 @@ def straddle_offset(left, right, site, inset: float) -> float:
     return math.sqrt(px * px + py * py + pz * pz)
 
 
-def straddles(left, right, site, radius: float, inset: float) -> bool:
-    """Whether `site` lies between the pads' inner faces and within `radius` of their line."""
-    return straddle_offset(left, right, site, inset) < radius
-
-
 class GripSensor:
     """Reads `Grip` in one scene: the two pad geoms, the finger bodies and the part's body."""
 

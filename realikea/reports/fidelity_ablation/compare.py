@@ -4,19 +4,10 @@ pool)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from realikea.errors import RealIkeaError
 from realikea.eval.stats import count, diff_interval, significant, wilson
-
-
-def read_eval(run: Path) -> dict:
-    """The run's eval.json modes; a directory without one is an error naming it."""
-    path = run / "eval.json"
-    if not path.is_file():
-        raise RealIkeaError(f"{run}: no eval.json (not a finished run)")
-    return json.loads(path.read_text())["modes"]
+from realikea.reports.fidelity_ablation.runs import read_eval
 
 
 def _rate(k: int, n: int) -> str:

@@ -145,13 +145,18 @@ def command_overrides(command: str) -> list[str]:
     return tokens[2:]
 
 
-def mode_overrides(run: Path, resistance: str, episodes: int) -> list[str]:
-    """The `realikea eval` overrides of a finished run's evaluation (its eval.json) in
-    `resistance`, with `episodes` episodes."""
+def read_eval(run: Path) -> dict:
+    """The run's eval.json modes; a directory without one is an error naming it."""
     path = run / "eval.json"
     if not path.is_file():
         raise RealIkeaError(f"{run}: no eval.json (not a finished run)")
-    modes = json.loads(path.read_text())["modes"]
+    return json.loads(path.read_text())["modes"]
+
+
+def mode_overrides(run: Path, resistance: str, episodes: int) -> list[str]:
+    """The `realikea eval` overrides of a finished run's evaluation (its eval.json) in
+    `resistance`, with `episodes` episodes."""
+    modes = read_eval(run)
     if resistance not in modes:
         raise RealIkeaError(f"{run}: evaluated in {', '.join(modes)}, not {resistance}")
     tokens = command_overrides(modes[resistance]["command"])
