@@ -24,10 +24,12 @@ P = GatedParams()
 GATED = VARIANTS["gated"]
 
 
-def values(stage=1, d1=0.3, d2=0.3, aperture=1.0, progress=0.0, straddle=False, engaged=False):
+def values(
+    stage=1, d1=0.3, d2=0.3, aperture=1.0, progress=0.0, straddle=False, engaged=False, push=0.0
+):
     return StepValues(
         stage, d1, d2, aperture, progress * 0.2, progress, straddle, engaged,
-        [0.0] * 5, [0.0] * 5, [0.0] * 5, True,
+        [0.0] * 5, [0.0] * 5, [0.0] * 5, True, push=push,
     )  # fmt: skip
 
 
@@ -116,6 +118,26 @@ def test_the_centre_term_pays_straddling_on_the_pads_line_and_never_outbids_a_gr
         GatedParams(w_center=6.0)  # beta = 10 < 5 + 6
 
 
+def test_pressing_the_closed_front_costs_in_proportion_up_to_push_force():
+    """`w_push` (0 in the default recipe): a grasp pressed shut with 200 N pays less than
+    straddling without pressing, so pressing cannot be a resting place."""
+    pushing = GatedParams(w_push=40.0)
+    grasp = dict(stage=4, d2=0.02, aperture=0.3, straddle=True, engaged=True)
+
+    def reward(params, **kwargs) -> float:
+        v = values(**kwargs)
+        return sum(value for _, value in GATED.weighted_terms(v, params))
+
+    assert reward(P, push=200.0, **grasp) == reward(P, **grasp)  # off by default
+    cost = reward(pushing, **grasp) - reward(pushing, push=100.0, **grasp)
+    assert cost == pytest.approx(pushing.scale * pushing.w_push * 100.0 / pushing.push_force)
+    assert reward(pushing, push=2 * pushing.push_force, **grasp) == pytest.approx(
+        reward(pushing, push=pushing.push_force, **grasp)
+    )  # capped
+    straddling = dict(stage=3, d2=0.02, aperture=0.3, straddle=True)
+    assert reward(pushing, push=200.0, **grasp) < reward(pushing, **straddling)
+
+
 def test_an_unknown_variant_is_refused_with_the_list_of_variants():
     with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
         reward_from_config({"variant": "shaped"})
@@ -146,7 +168,8 @@ class ClosedPoke(WaypointPolicy):
 
 
 def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
-    """Per step: the stage, the aperture and the opening of one episode of `policy`."""
+    """Per step: the stage, the aperture, the opening and the force pressing the front shut
+    of one episode of `policy`."""
     cfg = load_config(
         [f"asset.part={part}", "asset.base=drawer_w60_h20", "dr=fixed", f"paths.library={library}",
          *overrides],
@@ -161,7 +184,12 @@ def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
         result = task.step(policy.act(obs[None])[0])
         obs = result.obs
         steps.append(
-            {"stage": result.info["stage"], "aperture": task.aperture, "open": task.opening}
+            {
+                "stage": result.info["stage"],
+                "aperture": task.aperture,
+                "open": task.opening,
+                "push": task.pressing_force(),
+            }
         )
         if result.terminated or result.truncated:
             break
@@ -179,6 +207,7 @@ def test_a_closed_jaws_poke_reaches_stage_4_only_under_the_appendix(library, par
     gated = _episode(library, part, ClosedPoke())
     assert max(s["stage"] for s in appendix) == 4 and appendix[-1]["open"] < 0.01
     assert max(s["stage"] for s in gated) < 4
+    assert max(s["push"] for s in gated) > 10.0  # closed jaws driven into the handle press it
 
 
 @pytest.mark.parametrize(
@@ -198,3 +227,4 @@ def test_pinches_hooks_and_levers_reach_stage_4_and_hold_it_while_opening(
     # stage 4 while it opens (a hook may lose its contact for a step as the drawer hits its stop)
     assert sum(s["stage"] == 4 for s in opening) >= 0.9 * len(opening)
     assert all(aperture[0] <= s["aperture"] <= aperture[1] for s in opening)
+    assert all(s["push"] == 0.0 for s in opening)  # off the closed stop nothing presses it

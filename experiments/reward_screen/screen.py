@@ -55,6 +55,9 @@ RECIPES = {
     # the gated recipe paying, in stage 3, the jaws centred on the handle (w_center): two of
     # its runs ended straddling the handle without gripping it
     "gated_centred": ["task/reward=gated", "task.reward.w_center=5.0"],
+    # the gated recipe with a cost on pressing the closed front shut (w_push): the policies of
+    # the runs that did not learn press it with 85-360 N at the end, those that learned pull
+    "gated_push": ["task/reward=gated", "task.reward.w_push=40.0"],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -154,6 +154,8 @@ class OpenTask:
             m.jnt_dofadr[front.id],
         )
         self._success = float(task.outcome.success[self.joint_type])
+        # the front rests on its closed stop below this (the middle of its range)
+        self._closed_side = float(m.jnt_range[front.id].mean())
         self._category = CATEGORIES.index(self.part.category)
         self._jac = np.zeros((3, m.nv))
         self._tcp, self._handle = m.site(TCP_SITE).id, m.site(HANDLE_SITE).id
@@ -203,21 +205,39 @@ class OpenTask:
         s, d = self.state, self.data
         d1, d2 = self._targets()
         opening = self.opening
-        p, grip = self.params, NO_GRIP
+        p, grip, push = self.params, NO_GRIP, 0.0
         if self.reward.reads_grip:
             site, u = d.site_xpos[self._handle].tolist(), self.pull_direction().tolist()
             grip = self.grip_sensor.read(d, site, u, p.straddle_radius, p.hook_cos)
+            push = self.pressing_force()
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
-            grip.offset,
+            grip.offset, push,
         )  # fmt: skip
+
+    def _handle_jacobian(self) -> np.ndarray:
+        """The handle's world velocity per unit of the front's joint velocity (its norm: 1 for a
+        drawer, the lever arm in m for a hinge)."""
+        mujoco.mj_jacSite(self.model, self.data, self._jac, None, self._handle)
+        return self._jac[:, self._front_v]
 
     def pull_direction(self) -> np.ndarray:
         """Unit world direction the handle moves in as the front opens (the joint's Jacobian)."""
-        mujoco.mj_jacSite(self.model, self.data, self._jac, None, self._handle)
-        u = self._jac[:, self._front_v]
+        u = self._handle_jacobian()
         return u / np.linalg.norm(u)
+
+    def pressing_force(self) -> float:
+        """N at the handle with which the robot presses the closed front shut, after the last
+        physics step: the force of the front's closed stop (a hinge's torque over the lever
+        arm); 0 off the stop."""
+        d = self.data
+        if d.qpos.item(self._front_q) > self._closed_side or not d.nefc:
+            return 0.0
+        rows = (d.efc_type == mujoco.mjtConstraint.mjCNSTR_LIMIT_JOINT) & (d.efc_id == self._front)
+        if not rows.any():
+            return 0.0
+        return float(d.efc_force[rows].sum()) / float(np.linalg.norm(self._handle_jacobian()))
 
     def facts(self) -> SceneFacts:
         """The scene of the current episode for scripted policies (privileged, world frame)."""

@@ -22,6 +22,11 @@ contribution active under mutually exclusive gating". Here, every step:
 - stage 2: within tau1 of the pre-grasp target t1, or within `refine_radius` of t2;
 - stage 1 otherwise. A lost grasp returns the stage to the approach.
 
+Every stage, `w_push` (0 by default) costs pressing the closed front shut, in proportion to the
+force its closed stop holds at the handle (`OpenTask.pressing_force`), capped at `push_force`:
+the policies of the screen's runs that did not learn press the closed front with 100-360 N at the
+end instead of pulling, those that learned do not (`experiments/reward_screen/pressing.py`).
+
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
@@ -62,6 +67,8 @@ class GatedParams(StageParams):
     refine_radius: float = 0.11
     straddle_radius: float = 0.025
     hook_angle: float = 70.0
+    w_push: float = 0.0
+    push_force: float = 400.0
 
     def __post_init__(self):
         if self.beta < self.w_close + self.w_center:
@@ -129,6 +136,11 @@ def success_term(v: StepValues, p: GatedParams) -> float:
     return 1.0 if v.stage == 4 and v.progress >= 1.0 else 0.0
 
 
+def push_term(v: StepValues, p: GatedParams) -> float:
+    """Every stage: -(the force pressing the closed front shut / push_force), capped at -1."""
+    return -min(v.push / p.push_force, 1.0)
+
+
 # name -> (term, the params field that weighs it; None: the term carries its own weights)
 TERMS = {
     "stage": (stage_term, None),
@@ -138,6 +150,7 @@ TERMS = {
     "hold": (hold_term, "w_hold"),
     "open": (open_term, "w_progress"),
     "success": (success_term, "success_bonus"),
+    "push": (push_term, "w_push"),
     "jerk": (jerk_term, "w_jerk"),
     "ik_failure": (ik_failure_term, "ik_cost"),
 }

@@ -57,6 +57,7 @@ class StepValues:
     prev_prev_action: list[float]
     ik_ok: bool
     offset: float = math.inf  # m: the handle site from the line joining the pads, if between them
+    push: float = 0.0  # N at the handle: the force pressing the front against its closed stop
 
 
 def approach(d: float, weight: float, eps: float) -> float:

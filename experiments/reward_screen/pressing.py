@@ -1,0 +1,99 @@
+"""How hard each kept screen policy presses the closed front shut: its slim last checkpoint run
+on training parts of its own cell (randomized poses, as after the switch), episode by episode in
+one process, reading the force the front's closed stop holds against
+(`OpenTask.pressing_force`, N at the handle). Prints a markdown table.
+
+    python experiments/reward_screen/pressing.py                 # every kept run
+    python experiments/reward_screen/pressing.py --runs gated_hull_two_point_smooth_s1
+
+Per run: the share of episodes that succeed, and over the steps after the first 20 (the
+approach), the share of steps pressing with more than PRESSING newtons and their median force.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+
+from omegaconf import OmegaConf
+from tqdm import tqdm
+
+from realikea.assets.library import training_configurations
+from realikea.eval.setup import eval_setup
+from realikea.files import WORKSPACE
+from realikea.tasks.open_task import OpenTask
+
+RUNS = WORKSPACE / "experiments/reward_screen/runs"
+EPISODES = 6  # configurations of the run's cell, one episode each
+APPROACH = 20  # steps left out at the start of an episode
+PRESSING = 50.0  # N: a step presses the closed front above this
+# what a run's own overrides say of its cell (its .hydra/overrides.yaml)
+CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
+
+
+def checkpoint(run: str):
+    found = sorted((RUNS / run).glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
+    if not found:
+        raise SystemExit(f"{RUNS / run}: no model_<it>.pt")
+    return found[-1]
+
+
+def measure(run: str, episodes: int) -> dict:
+    """Success share, pressing share and median pressing force of one run's policy."""
+    path = checkpoint(run)
+    trained = OmegaConf.load(RUNS / run / ".hydra/overrides.yaml")
+    cell = [o for o in trained if o.split("=")[0] in CELL_KEYS]
+    overrides = [*cell, f"policy.path={path}", "asset.split=train", "dr=randomized", "env.seed=0"]
+    cfg, policy = eval_setup(["policy=checkpoint", *overrides])
+    configurations = training_configurations(cfg, episodes, 0)
+    successes, forces, steps = 0, [], 0
+    for k, configuration in enumerate(configurations):
+        task = OpenTask(cfg, configuration, seed=k)
+        obs = task.reset()
+        policy.reset([0], [task.facts()])
+        for t in range(task.horizon):
+            result = task.step(policy.act(obs[None])[0])
+            obs = result.obs
+            if t >= APPROACH:
+                steps += 1
+                push = task.pressing_force()
+                if push > PRESSING:
+                    forces.append(push)
+            if result.terminated or result.truncated:
+                successes += result.info["outcome"] == "success"
+                break
+    return {
+        "checkpoint": path.name,
+        "success": successes / len(configurations),
+        "pressing": len(forces) / max(steps, 1),
+        "median": statistics.median(forces) if forces else 0.0,
+    }
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--runs", nargs="+", help="kept run names (default: every kept run)")
+    parser.add_argument("--episodes", type=int, default=EPISODES)
+    args = parser.parse_args()
+    kept = sorted(p.name for p in RUNS.iterdir() if (p / "wall.json").is_file())
+    runs = args.runs or kept
+    unknown = [r for r in runs if r not in kept]
+    if unknown:
+        parser.error(f"not kept runs: {', '.join(unknown)} (kept: {', '.join(kept)})")
+    if args.episodes < 1:
+        parser.error(f"--episodes must be >= 1, got {args.episodes}")
+    print(f"training parts, randomized poses, {args.episodes} configurations a run (seed 0)")
+    print(f"| run | checkpoint | success | steps pressing > {PRESSING:.0f} N | median force (N) |")
+    print("|---|---|---:|---:|---:|")
+    for run in tqdm(runs, desc="runs", file=sys.stderr):
+        m = measure(run, args.episodes)
+        print(
+            f"| {run} | {m['checkpoint']} | {m['success']:.2f} | {m['pressing']:.2f} "
+            f"| {m['median']:.0f} |"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
