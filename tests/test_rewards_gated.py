@@ -138,6 +138,20 @@ def test_pressing_the_closed_front_costs_in_proportion_up_to_push_force():
     assert reward(pushing, push=200.0, **grasp) < reward(pushing, **straddling)
 
 
+def test_an_action_past_its_clip_costs_its_squared_excess():
+    """`w_bound` (0 in the default recipe): the clip to [-1, 1] makes every sample of a mean
+    far past it the same command; the cost pulls the mean back where exploring changes
+    something."""
+    bounded = GatedParams(w_bound=5.0)
+    v = values(stage=2, d2=0.05)
+    inside = sum(value for _, value in GATED.weighted_terms(v, bounded))
+    past = sum(
+        value for _, value in GATED.weighted_terms(dataclasses.replace(v, excess=4.0), bounded)
+    )
+    assert inside - past == pytest.approx(bounded.scale * bounded.w_bound * 4.0)
+    assert P.w_bound == 0.0
+
+
 def test_an_unknown_variant_is_refused_with_the_list_of_variants():
     with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
         reward_from_config({"variant": "shaped"})
@@ -199,6 +213,20 @@ def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
 @pytest.fixture(scope="module")
 def library(tmp_path_factory):
     return tmp_path_factory.mktemp("library")
+
+
+def test_the_task_reads_the_actions_excess_before_the_clip(library):
+    cfg = load_config(
+        ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", "dr=fixed",
+         f"paths.library={library}"],
+        "eval",
+    )  # fmt: skip
+    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
+    task.reset()
+    task.step([0.0, 3.0, -1.5, 0.5, 0.0])
+    assert task._step_values(2, [0.0] * 5, True).excess == pytest.approx(2.0**2 + 0.5**2)
+    task.reset()
+    assert task._step_values(1, [0.0] * 5, True).excess == 0.0
 
 
 @pytest.mark.parametrize("part", ["tp_round_bar_128", "knob_mushroom_34"])

@@ -58,6 +58,11 @@ RECIPES = {
     # the gated recipe with a cost on pressing the closed front shut (w_push): the policies of
     # the runs that did not learn press it with 85-360 N at the end, those that learned pull
     "gated_push": ["task/reward=gated", "task.reward.w_push=40.0"],
+    # and a cost on the policy's action beyond its clip (w_bound): under gated_push the hull
+    # two-point s1 run held its pinch without opening, its vertical command's mean past the clip
+    "gated_push_bound": [
+        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

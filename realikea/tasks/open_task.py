@@ -182,6 +182,7 @@ class OpenTask:
             robot = subtree_geoms(m, self._base)
             self.failure_monitor = FailureMonitor(m, robot, parts + panel)
         self._step_forces, self._step_samples = np.zeros(len(SAMPLE_FORCES)), 0
+        self._excess = 0.0  # the last action's squared excess beyond the clip to [-1, 1]
 
     # --- reading the scene ----------------------------------------------------------------
     @property
@@ -213,7 +214,7 @@ class OpenTask:
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
-            grip.offset, push,
+            grip.offset, push, self._excess,
         )  # fmt: skip
 
     def _handle_jacobian(self) -> np.ndarray:
@@ -295,6 +296,7 @@ class OpenTask:
         self.perturb.apply(self.rng if active else None, self.randomization)
         reset_home(self.model, self.data, self.cfg, self.home)
         self.state = EpisodeState()
+        self._excess = 0.0
         self._nominal_handle = self.data.site_xpos[self._handle].copy()
         # the paper's approach offsets share one lateral bias, along the handle's long axis
         lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
@@ -324,6 +326,7 @@ class OpenTask:
         d.ctrl[self._arm_act] = result.q
         d.ctrl[self._grip_act] = self.gripper.ctrl(a[4])
         self._last_action, self._tcp_before = a, tcp.copy()
+        self._excess = sum(max(abs(x) - 1.0, 0.0) ** 2 for x in action.tolist())
         return result.ok
 
     def simulate(self) -> None:

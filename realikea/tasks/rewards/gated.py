@@ -48,6 +48,7 @@ from realikea.tasks.rewards.terms import (
     StageParams,
     StepValues,
     approach,
+    bound_term,
     ik_failure_term,
     jerk_term,
 )
@@ -68,6 +69,7 @@ class GatedParams(StageParams):
     straddle_radius: float = 0.025
     hook_angle: float = 70.0
     w_push: float = 0.0
+    w_bound: float = 0.0
     push_force: float = 400.0
 
     def __post_init__(self):
@@ -151,6 +153,7 @@ TERMS = {
     "open": (open_term, "w_progress"),
     "success": (success_term, "success_bonus"),
     "push": (push_term, "w_push"),
+    "bound": (bound_term, "w_bound"),
     "jerk": (jerk_term, "w_jerk"),
     "ik_failure": (ik_failure_term, "ik_cost"),
 }

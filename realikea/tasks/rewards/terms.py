@@ -58,6 +58,7 @@ class StepValues:
     ik_ok: bool
     offset: float = math.inf  # m: the handle site from the line joining the pads, if between them
     push: float = 0.0  # N at the handle: the force pressing the front against its closed stop
+    excess: float = 0.0  # sum of (|a_i| - 1)^2 over the policy's action beyond the clip to [-1, 1]
 
 
 def approach(d: float, weight: float, eps: float) -> float:
@@ -77,6 +78,12 @@ def jerk_penalty(action, previous, before_previous, weight: float) -> float:
 def jerk_term(v: StepValues, p) -> float:
     """-||a_t - 2 a_{t-1} + a_{t-2}||^2, before its weight."""
     return jerk_penalty(v.action, v.prev_action, v.prev_prev_action, 1.0)
+
+
+def bound_term(v: StepValues, p) -> float:
+    """-sum (|a_i| - 1)^2 beyond the clip, before its weight: a policy whose mean has drifted
+    past the clip explores nothing on that component (every sample clips to the same command)."""
+    return -v.excess
 
 
 def ik_failure_term(v: StepValues, p) -> float:
