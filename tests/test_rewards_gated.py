@@ -152,6 +152,22 @@ def test_an_action_past_its_clip_costs_its_squared_excess():
     assert P.w_bound == 0.0
 
 
+def test_keep_opening_pays_an_opening_after_the_grasp_is_lost():
+    """`keep_opening` (off in the default recipe): a pinch that slips on the way out keeps
+    the opening it made; an episode that never grasped is paid nothing for an opening."""
+    keep = GatedParams(keep_opening=True)
+    slipped = values(stage=2, d2=0.05, progress=0.8)
+
+    def opening_pay(params, v) -> float:
+        return sum(value for name, value in GATED.weighted_terms(v, params) if name == "open")
+
+    assert opening_pay(P, dataclasses.replace(slipped, grasped=True)) == 0.0
+    assert opening_pay(keep, dataclasses.replace(slipped, grasped=True)) == pytest.approx(
+        keep.scale * keep.w_progress * 0.8
+    )
+    assert opening_pay(keep, slipped) == 0.0  # never grasped
+
+
 def test_an_unknown_variant_is_refused_with_the_list_of_variants():
     with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
         reward_from_config({"variant": "shaped"})

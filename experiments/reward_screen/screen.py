@@ -63,6 +63,12 @@ RECIPES = {
     "gated_push_bound": [
         "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
     ],
+    # and the opening paid once the episode has grasped, grasp held or not (keep_opening): its
+    # policy, made to pull, opened 10-23 cm and lost the pinch on the way, which paid nothing
+    "gated_keep": [
+        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
+        "task.reward.keep_opening=true",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -71,6 +71,7 @@ class EpisodeState:
 
     stage: int = 1
     steps: int = 0
+    grasped: bool = False  # the stage has been 4 at some step of the episode
     prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
@@ -214,7 +215,7 @@ class OpenTask:
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
-            grip.offset, push, self._excess,
+            grip.offset, push, excess=self._excess,
         )  # fmt: skip
 
     def _handle_jacobian(self) -> np.ndarray:
@@ -373,7 +374,8 @@ class OpenTask:
         diverged = self.diverged()
         values = self._step_values(s.stage, a.tolist(), ik_ok)
         s.stage = self.reward.next_stage(s.stage, values, p)
-        values = replace(values, stage=s.stage)
+        s.grasped = s.grasped or s.stage == 4
+        values = replace(values, stage=s.stage, grasped=s.grasped)
         opening = values.opening
         reward = 0.0
         for name, value in self.reward.weighted_terms(values, p):

@@ -27,6 +27,11 @@ force its closed stop holds at the handle (`OpenTask.pressing_force`), capped at
 the policies of the screen's runs that did not learn press the closed front with 100-360 N at the
 end instead of pulling, those that learned do not (`experiments/reward_screen/pressing.py`).
 
+`w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1]: a mean far past
+the clip explores nothing on that component. With `keep_opening` (off by default) the opening
+and its bonus are paid in every stage once the episode has been in stage 4: pulled hard, a
+pinch that slips on the way out keeps the opening it made (`experiments/reward_screen/README.md`).
+
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
@@ -70,6 +75,7 @@ class GatedParams(StageParams):
     hook_angle: float = 70.0
     w_push: float = 0.0
     w_bound: float = 0.0
+    keep_opening: bool = False
     push_force: float = 400.0
 
     def __post_init__(self):
@@ -128,14 +134,21 @@ def hold_term(v: StepValues, p: GatedParams) -> float:
     return approach(v.d2, 1.0, p.eps) if v.stage == 4 else 0.0
 
 
+def credits_opening(v: StepValues, p: GatedParams) -> bool:
+    """Whether the opening is paid this step: in stage 4, or with `keep_opening` in any stage
+    once the episode has been in stage 4 (the paper credits opening "only after grasp readiness
+    is achieved")."""
+    return v.stage == 4 or (p.keep_opening and v.grasped)
+
+
 def open_term(v: StepValues, p: GatedParams) -> float:
-    """Stage 4: opening / success threshold, capped at 1: linear, no resting place short of it."""
-    return min(max(v.progress, 0.0), 1.0) if v.stage == 4 else 0.0
+    """Opening / success threshold, capped at 1: linear, no resting place short of it."""
+    return min(max(v.progress, 0.0), 1.0) if credits_opening(v, p) else 0.0
 
 
 def success_term(v: StepValues, p: GatedParams) -> float:
-    """Stage 4: 1 once the opening reaches the success threshold."""
-    return 1.0 if v.stage == 4 and v.progress >= 1.0 else 0.0
+    """1 once the opening reaches the success threshold."""
+    return 1.0 if credits_opening(v, p) and v.progress >= 1.0 else 0.0
 
 
 def push_term(v: StepValues, p: GatedParams) -> float:

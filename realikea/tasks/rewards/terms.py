@@ -58,6 +58,7 @@ class StepValues:
     ik_ok: bool
     offset: float = math.inf  # m: the handle site from the line joining the pads, if between them
     push: float = 0.0  # N at the handle: the force pressing the front against its closed stop
+    grasped: bool = False  # the stage has been 4 at some step of the episode, this one included
     excess: float = 0.0  # sum of (|a_i| - 1)^2 over the policy's action beyond the clip to [-1, 1]
 
 
