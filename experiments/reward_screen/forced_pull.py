@@ -1,0 +1,71 @@
+"""What a kept screen policy's grasp does when made to pull: the policy runs on training parts of
+its own cell (randomized poses); from step FROM on, its translation command along the opening
+direction is replaced by a fixed pull (the rest of its command kept). Prints a markdown table:
+per configuration and pull, the opening at the episode's end, the stage then, and the steps the
+episode lasted (120 unless a termination ended it).
+
+    python experiments/reward_screen/forced_pull.py gated_push_hull_two_point_smooth_s1
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from omegaconf import OmegaConf
+
+from realikea.assets.library import training_configurations
+from realikea.eval.setup import eval_setup
+from realikea.files import WORKSPACE
+from realikea.tasks.open_task import OpenTask
+
+RUNS = WORKSPACE / "experiments/reward_screen/runs"
+CONFIGURATIONS = 3
+FROM = 35  # step from which the pull is forced (the kept policies grasp by step 20-30)
+PULLS = (None, 0.5, 1.0)  # None: the policy's own command; else the command along the opening
+CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
+
+
+def episode(task: OpenTask, policy, pull: float | None) -> tuple[float, int, int]:
+    """(opening, final stage, steps) of one episode with the pull forced from FROM on."""
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    for t in range(task.horizon):
+        action = policy.act(obs[None])[0]
+        if pull is not None and t >= FROM:
+            u = task.pull_direction()
+            move = action[1:4]
+            action[1:4] = move - move.dot(u) * u + pull * u
+        result = task.step(action)
+        obs = result.obs
+        if result.terminated or result.truncated:
+            break
+    return task.opening, result.info["stage"], t + 1
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run", help="a kept run's name (experiments/reward_screen/runs/NAME)")
+    args = parser.parse_args()
+    folder = RUNS / args.run
+    found = sorted(folder.glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
+    if not found:
+        parser.error(f"{folder}: no model_<it>.pt")
+    trained = OmegaConf.load(folder / ".hydra/overrides.yaml")
+    cell = [o for o in trained if o.split("=")[0] in CELL_KEYS]
+    overrides = [*cell, f"policy.path={found[-1]}", "asset.split=train", "dr=randomized"]
+    cfg, policy = eval_setup(["policy=checkpoint", *overrides])
+    print(f"{args.run} ({found[-1].name}), training parts, randomized poses; pull forced from "
+          f"step {FROM}")  # fmt: skip
+    print("| configuration | pull command | opening (m) | stage at the end | steps |")
+    print("|---|---|---:|---:|---:|")
+    for k, configuration in enumerate(training_configurations(cfg, CONFIGURATIONS, 0)):
+        for pull in PULLS:
+            task = OpenTask(cfg, configuration, seed=k)
+            opening, stage, steps = episode(task, policy, pull)
+            label = "the policy's" if pull is None else f"{pull:.1f}"
+            print(f"| {k} | {label} | {opening:.3f} | {stage} | {steps} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
