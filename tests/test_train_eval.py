@@ -16,6 +16,7 @@ from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult
+from realikea.eval.setup import trained_cell
 from realikea.eval.stats import wilson
 from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
@@ -386,3 +387,16 @@ def test_an_unknown_console_fails_before_any_work(tmp_path):
     with pytest.raises(RealIkeaError, match="train.console=tqdm: use one of bar, report"):
         train(cfg, tmp_path / "run")
     assert not (tmp_path / "library").exists() and not (tmp_path / "run").exists()
+
+
+def test_trained_cell_reads_what_a_run_trained_on_from_its_overrides(tmp_path):
+    (tmp_path / ".hydra").mkdir()
+    (tmp_path / ".hydra/overrides.yaml").write_text(
+        "- task/reward=gated\n- collision=hull\n- asset=knob\n- resistance=smooth\n"
+        "- env.seed=1\n- asset.kind=drawer\n- scene=kitchen\n- agent.max_iterations=400\n"
+    )
+    assert trained_cell(tmp_path) == [
+        "collision=hull", "asset=knob", "resistance=smooth", "asset.kind=drawer", "scene=kitchen",
+    ]  # fmt: skip
+    with pytest.raises(RealIkeaError, match="no Hydra overrides"):
+        trained_cell(tmp_path / "elsewhere")

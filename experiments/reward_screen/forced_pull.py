@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import argparse
 
-from omegaconf import OmegaConf
-
 from realikea.assets.library import training_configurations
-from realikea.eval.setup import eval_setup
+from realikea.errors import RealIkeaError
+from realikea.eval.setup import eval_setup, trained_cell
+from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.tasks.open_task import OpenTask
 
@@ -22,7 +22,6 @@ RUNS = WORKSPACE / "experiments/reward_screen/runs"
 CONFIGURATIONS = 3
 FROM = 35  # step from which the pull is forced (the kept policies grasp by step 20-30)
 PULLS = (None, 0.5, 1.0)  # None: the policy's own command; else the command along the opening
-CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
 
 
 def episode(task: OpenTask, policy, pull: float | None) -> tuple[float, int, int]:
@@ -47,14 +46,14 @@ def main() -> int:
     parser.add_argument("run", help="a kept run's name (experiments/reward_screen/runs/NAME)")
     args = parser.parse_args()
     folder = RUNS / args.run
-    found = sorted(folder.glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
-    if not found:
-        parser.error(f"{folder}: no model_<it>.pt")
-    trained = OmegaConf.load(folder / ".hydra/overrides.yaml")
-    cell = [o for o in trained if o.split("=")[0] in CELL_KEYS]
-    overrides = [*cell, f"policy.path={found[-1]}", "asset.split=train", "dr=randomized"]
+    try:
+        _, path = checkpoints(folder)[-1]
+        cell = trained_cell(folder)
+    except RealIkeaError as err:
+        parser.error(str(err))
+    overrides = [*cell, f"policy.path={path}", "asset.split=train", "dr=randomized"]
     cfg, policy = eval_setup(["policy=checkpoint", *overrides])
-    print(f"{args.run} ({found[-1].name}), training parts, randomized poses; pull forced from "
+    print(f"{args.run} ({path.name}), training parts, randomized poses; pull forced from "
           f"step {FROM}")  # fmt: skip
     print("| configuration | pull command | opening (m) | stage at the end | steps |")
     print("|---|---|---:|---:|---:|")

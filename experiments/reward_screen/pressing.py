@@ -16,11 +16,11 @@ import argparse
 import statistics
 import sys
 
-from omegaconf import OmegaConf
 from tqdm import tqdm
 
 from realikea.assets.library import training_configurations
-from realikea.eval.setup import eval_setup
+from realikea.eval.setup import eval_setup, trained_cell
+from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.tasks.open_task import OpenTask
 
@@ -28,22 +28,12 @@ RUNS = WORKSPACE / "experiments/reward_screen/runs"
 EPISODES = 6  # configurations of the run's cell, one episode each
 APPROACH = 20  # steps left out at the start of an episode
 PRESSING = 50.0  # N: a step presses the closed front above this
-# what a run's own overrides say of its cell (its .hydra/overrides.yaml)
-CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
-
-
-def checkpoint(run: str):
-    found = sorted((RUNS / run).glob("model_*.pt"), key=lambda p: int(p.stem.split("_")[1]))
-    if not found:
-        raise SystemExit(f"{RUNS / run}: no model_<it>.pt")
-    return found[-1]
 
 
 def measure(run: str, episodes: int) -> dict:
     """Success share, pressing share and median pressing force of one run's policy."""
-    path = checkpoint(run)
-    trained = OmegaConf.load(RUNS / run / ".hydra/overrides.yaml")
-    cell = [o for o in trained if o.split("=")[0] in CELL_KEYS]
+    _, path = checkpoints(RUNS / run)[-1]
+    cell = trained_cell(RUNS / run)
     overrides = [*cell, f"policy.path={path}", "asset.split=train", "dr=randomized", "env.seed=0"]
     cfg, policy = eval_setup(["policy=checkpoint", *overrides])
     configurations = training_configurations(cfg, episodes, 0)

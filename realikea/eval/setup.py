@@ -4,6 +4,7 @@ split by default) and the policy, then episodes on an env pool."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
@@ -17,6 +18,17 @@ from realikea.tasks.open_task import OpenTask
 
 # groups a checkpoint brings from its own run unless the command line overrides them
 RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
+# what a run's overrides say of the configurations it trained on (not carried by a checkpoint)
+CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
+
+
+def trained_cell(run: Path) -> list[str]:
+    """The overrides of a Hydra run folder (`.hydra/overrides.yaml`) that name what it trained
+    on: its parts, kind, collision source, resistance and scene."""
+    path = Path(run) / ".hydra" / "overrides.yaml"
+    if not path.is_file():
+        raise RealIkeaError(f"{run}: no Hydra overrides at {path}")
+    return [o for o in OmegaConf.load(path) if o.split("=")[0] in CELL_KEYS]
 
 
 def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:
