@@ -28,7 +28,9 @@ the policies of the screen's runs that did not learn press the closed front with
 end instead of pulling, those that learned do not (`experiments/reward_screen/pressing.py`).
 
 `w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1]: a mean far past
-the clip explores nothing on that component. With `keep_opening` (off by default) the opening
+the clip explores nothing on that component. Measured, it does harm: costing the sampled action
+also costs its spread (action std 0.23-0.26 at iteration 120 against 0.45-0.77 without it,
+`experiments/reward_screen/exploration.md`); kept so the screen's runs with it reproduce. With `keep_opening` (off by default) the opening
 and its bonus are paid in every stage once the episode has been in stage 4: pulled hard, a
 pinch that slips on the way out keeps the opening it made (`experiments/reward_screen/README.md`).
 
