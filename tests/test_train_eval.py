@@ -23,7 +23,7 @@ from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.reports.generalist import evaluate_grid, read_cells, success_table
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
-from realikea.training.train import train
+from realikea.training.train import runner_config, train
 
 SMALL = [
     "asset=two_point",
@@ -400,3 +400,11 @@ def test_trained_cell_reads_what_a_run_trained_on_from_its_overrides(tmp_path):
     ]  # fmt: skip
     with pytest.raises(RealIkeaError, match="no Hydra overrides"):
         trained_cell(tmp_path / "elsewhere")
+
+
+def test_min_std_is_a_floor_under_the_policys_action_std():
+    assert "std_range" not in runner_config(load_config())["actor"]["distribution_cfg"]
+    floored = runner_config(load_config(["agent.min_std=0.4"]))["actor"]["distribution_cfg"]
+    assert floored["std_range"] == [0.4, 1e6]
+    with pytest.raises(RealIkeaError, match=r"agent.min_std=2.0: use a value in \(0"):
+        runner_config(load_config(["agent.min_std=2.0"]))

@@ -23,6 +23,13 @@ def runner_config(cfg: DictConfig) -> dict:
     """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`."""
     agent = cfg.agent
     distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
+    if agent.get("min_std") is not None:
+        if not 0.0 < float(agent.min_std) <= float(agent.init_std):
+            raise RealIkeaError(
+                f"agent.min_std={agent.min_std}: use a value in (0, agent.init_std="
+                f"{agent.init_std}] or null"
+            )
+        distribution["std_range"] = [float(agent.min_std), 1e6]  # rsl-rl clamps the std to it
     model = {"class_name": "MLPModel", "activation": str(agent.activation)}
     return {
         "num_steps_per_env": int(agent.num_steps_per_env),

@@ -30,9 +30,11 @@ end instead of pulling, those that learned do not (`experiments/reward_screen/pr
 `w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1]: a mean far past
 the clip explores nothing on that component. Measured, it does harm: costing the sampled action
 also costs its spread (action std 0.23-0.26 at iteration 120 against 0.45-0.77 without it,
-`experiments/reward_screen/exploration.md`); kept so the screen's runs with it reproduce. With `keep_opening` (off by default) the opening
-and its bonus are paid in every stage once the episode has been in stage 4: pulled hard, a
-pinch that slips on the way out keeps the opening it made (`experiments/reward_screen/README.md`).
+`experiments/reward_screen/exploration.md`); kept so the screen's runs with it reproduce.
+
+With `keep_opening` (off by default) the opening and its bonus are paid in every stage once the
+episode has been in stage 4: pulled hard, a pinch that slips on the way out keeps the opening it
+made (`experiments/reward_screen/README.md`).
 
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
