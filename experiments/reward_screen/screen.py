@@ -64,27 +64,27 @@ RECIPES = {
         "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
     ],
     # and the opening paid once the episode has grasped, grasp held or not (keep_opening): its
-    # policy, made to pull, opened 10-23 cm and lost the pinch on the way, which paid nothing
+    # policy, made to pull, opened 15-22 cm and lost the pinch on the way, which paid nothing
     "gated_keep": [
         "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
         "task.reward.keep_opening=true",
     ],
     # and stage 3 only with the handle site within 12 mm of the pads' line (the pad's half
-    # length, 9 mm, plus 3): under gated_keep both seeds sat in stage 3 from iteration 60 to
-    # 250, and at 25 mm jaws short of the handle straddle it but close on nothing
+    # length, 9 mm, plus 3): the seed-1 runs ended most episodes in stage 3 for 100-200
+    # iterations before a grasp, and at 25 mm jaws short of the handle straddle it
     "gated_tight": [
         "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
         "task.reward.keep_opening=true", "task.reward.straddle_radius=0.012",
     ],
     # gated_tight without w_bound: costing the sampled action past the clip also costs its
-    # spread, and the runs with w_bound had their action std at 0.24-0.26 by iteration 120
-    # (0.45-0.71 without it)
+    # spread, and the runs with w_bound had their action std at 0.23-0.26 by iteration 120
+    # (0.45-0.77 without it)
     "gated_tight_unbound": [
         "task/reward=gated", "task.reward.w_push=40.0", "task.reward.keep_opening=true",
         "task.reward.straddle_radius=0.012",
     ],
     # gated_push with a floor under the action std: the runs that held a grasp without pulling
-    # ended at a std of 0.22-0.30 (exploration.md)
+    # ended at a std of 0.18-0.30 (exploration.md)
     "gated_push_floor": ["task/reward=gated", "task.reward.w_push=40.0", "agent.min_std=0.4"],
 }  # fmt: skip
 COMMON = [
