@@ -209,9 +209,12 @@ class OpenTask:
         opening = self.opening
         p, grip, push = self.params, NO_GRIP, 0.0
         if self.reward.reads_grip:
-            site, u = d.site_xpos[self._handle].tolist(), self.pull_direction().tolist()
+            velocity = self._handle_jacobian()
+            lever = float(np.linalg.norm(velocity))
+            site, u = d.site_xpos[self._handle].tolist(), (velocity / lever).tolist()
             grip = self.grip_sensor.read(d, site, u, p.straddle_radius, p.hook_cos)
-            push = self.pressing_force()
+            if p.w_push:  # read only where it is weighed (off in the default recipe)
+                push = self._closed_stop_force() / lever
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
@@ -233,13 +236,16 @@ class OpenTask:
         """N at the handle with which the robot presses the closed front shut, after the last
         physics step: the force of the front's closed stop (a hinge's torque over the lever
         arm); 0 off the stop."""
+        force = self._closed_stop_force()
+        return force / float(np.linalg.norm(self._handle_jacobian())) if force else 0.0
+
+    def _closed_stop_force(self) -> float:
+        """The generalized force (N or N m) the front's closed stop holds; 0 off the stop."""
         d = self.data
         if d.qpos.item(self._front_q) > self._closed_side or not d.nefc:
             return 0.0
         rows = (d.efc_type == mujoco.mjtConstraint.mjCNSTR_LIMIT_JOINT) & (d.efc_id == self._front)
-        if not rows.any():
-            return 0.0
-        return float(d.efc_force[rows].sum()) / float(np.linalg.norm(self._handle_jacobian()))
+        return float(d.efc_force[rows].sum())
 
     def facts(self) -> SceneFacts:
         """The scene of the current episode for scripted policies (privileged, world frame)."""

@@ -30,7 +30,7 @@ class Variant:
     # name -> (term, the params field that weighs it; None: the term carries its own weights)
     terms: Mapping[str, tuple[Callable[[StepValues, Any], float], str | None]]
     reads_grip: bool  # whether its stages read the straddle and the contacts (params give
-    # straddle_radius and hook_cos); the task skips the contact scan otherwise
+    # straddle_radius, hook_cos and w_push); the task skips the contact scan otherwise
 
     def weighted_terms(self, v: StepValues, p) -> list[tuple[str, float]]:
         """(name, weighted and scaled value) of every term, in order."""
