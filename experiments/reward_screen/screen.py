@@ -86,6 +86,10 @@ RECIPES = {
     # gated_push with a floor under the action std: the runs that held a grasp without pulling
     # ended at a std of 0.18-0.30 (exploration.md)
     "gated_push_floor": ["task/reward=gated", "task.reward.w_push=40.0", "agent.min_std=0.4"],
+    # gated's stages and shaping paid as a potential's change, the opening kept from the first
+    # grasp on: every recipe above that reached a grasp settled holding it without pulling,
+    # where gated pays the grasp every step it is held and a slip loses that for the rest
+    "potential": ["task/reward=potential"],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",
