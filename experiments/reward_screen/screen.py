@@ -86,10 +86,13 @@ RECIPES = {
     # gated_push with a floor under the action std: the runs that held a grasp without pulling
     # ended at a std of 0.18-0.30 (exploration.md)
     "gated_push_floor": ["task/reward=gated", "task.reward.w_push=40.0", "agent.min_std=0.4"],
-    # gated's stages and shaping paid as a potential's change, the opening kept from the first
-    # grasp on: every recipe above that reached a grasp settled holding it without pulling,
-    # where gated pays the grasp every step it is held and a slip loses that for the rest
-    "potential": ["task/reward=potential"],
+    # gated with the opening kept from the first grasp on and paid three times as much: a pull
+    # that opens 5 cm and slips then earns more (stage 2-3, 25-32 a step, + 15) than holding
+    # the grasp still (about 40), where gated_keep's weights made the two about equal
+    "gated_pull": [
+        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+        "task.reward.success_bonus=60.0",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -72,7 +72,6 @@ class EpisodeState:
     stage: int = 1
     steps: int = 0
     grasped: bool = False  # the stage has been 4 at some step of the episode
-    potential: float = 0.0  # a potential-shaped reward's Phi after the last step
     prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
@@ -311,9 +310,6 @@ class OpenTask:
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)
-        if self.reward.potential is not None:
-            values = replace(values, stage=self.state.stage)
-            self.state.potential = self.reward.potential(values, self.params)
         return self.observe()
 
     def apply_action(self, action) -> bool:
@@ -383,6 +379,15 @@ class OpenTask:
         s.steps += 1
         diverged = self.diverged()
         values = self._step_values(s.stage, a.tolist(), ik_ok)
+        s.stage = self.reward.next_stage(s.stage, values, p)
+        s.grasped = s.grasped or s.stage == 4
+        values = replace(values, stage=s.stage, grasped=s.grasped)
+        opening = values.opening
+        reward = 0.0
+        for name, value in self.reward.weighted_terms(values, p):
+            reward += value
+            if not diverged:
+                s.term_sums[name] = s.term_sums.get(name, 0.0) + value
         s.ik_failures = 0 if ik_ok else s.ik_failures + 1
         term = self.terminations
         step = self.data.site_xpos[self._tcp] - self._tcp_before
@@ -390,28 +395,11 @@ class OpenTask:
         command = a[1:4]
         commanded = math.sqrt(command.dot(command)) > term.stagnation_command
         s.stagnant = s.stagnant + 1 if commanded and moved < term.stagnation_motion else 0
-        ended = termination(s, term, diverged)
-        terminated = ended is not None
-        s.stage = self.reward.next_stage(s.stage, values, p)
-        s.grasped = s.grasped or s.stage == 4
-        values = replace(
-            values,
-            stage=s.stage,
-            grasped=s.grasped,
-            prev_potential=s.potential,
-            terminal=terminated,
-        )
-        opening = values.opening
-        reward = 0.0
-        for name, value in self.reward.weighted_terms(values, p):
-            reward += value
-            if not diverged:
-                s.term_sums[name] = s.term_sums.get(name, 0.0) + value
-        if self.reward.potential is not None:
-            s.potential = self.reward.potential(values, p)
         s.prev_prev_action, s.prev_action = s.prev_action, a
         if diverged:
             reward = 0.0
+        ended = termination(s, term, diverged)
+        terminated = ended is not None
         truncated = not terminated and s.steps >= self.horizon
         info = {"opening": opening, "stage": s.stage, "ik_ok": ik_ok, "diverged": diverged}
         if self.contact_monitor is not None:

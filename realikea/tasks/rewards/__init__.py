@@ -2,10 +2,8 @@
 the variant's terms in their order, times its `scale`; the task logs each term's episode sum.
 
 Variants: `gated` (the default: stages read from the scene every step, grasp readiness from
-contact), `potential` (gated's stages and shaping paid as a potential's change, so only the
-opening pays every step) and `appendix` (the paper's stages latched, what every committed
-checkpoint before the gated variant was trained on). A config without `variant` is the
-appendix's.
+contact) and `appendix` (the paper's stages latched, what every committed checkpoint before the
+gated variant was trained on). A config without `variant` is the appendix's.
 """
 
 from __future__ import annotations
@@ -15,7 +13,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from realikea.errors import RealIkeaError
-from realikea.tasks.rewards import appendix, gated, potential
+from realikea.tasks.rewards import appendix, gated
 from realikea.tasks.rewards.terms import StepValues
 
 DEFAULT_VARIANT = "appendix"  # what a config naming no variant was trained on
@@ -33,9 +31,6 @@ class Variant:
     terms: Mapping[str, tuple[Callable[[StepValues, Any], float], str | None]]
     reads_grip: bool  # whether its stages read the straddle and the contacts (params give
     # straddle_radius, hook_cos and w_push); the task skips the contact scan otherwise
-    # Phi(values, params) of a potential-shaped variant (its terms read `prev_potential`): the
-    # task keeps it from step to step; None: the variant keeps no potential
-    potential: Callable[[StepValues, Any], float] | None = None
 
     def weighted_terms(self, v: StepValues, p) -> list[tuple[str, float]]:
         """(name, weighted and scaled value) of every term, in order."""
@@ -54,14 +49,6 @@ VARIANTS = {
         "appendix", appendix.AppendixParams, appendix.next_stage, appendix.TERMS, False
     ),
     "gated": Variant("gated", gated.GatedParams, gated.next_stage, gated.TERMS, True),
-    "potential": Variant(
-        "potential",
-        potential.PotentialParams,
-        gated.next_stage,
-        potential.TERMS,
-        True,
-        potential.potential,
-    ),
 }
 
 

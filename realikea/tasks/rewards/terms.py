@@ -60,8 +60,6 @@ class StepValues:
     push: float = 0.0  # N at the handle: the force pressing the front against its closed stop
     grasped: bool = False  # the stage has been 4 at some step of the episode, this one included
     excess: float = 0.0  # sum of (|a_i| - 1)^2 over the policy's action beyond the clip to [-1, 1]
-    prev_potential: float = 0.0  # a potential-shaped variant's Phi before the step
-    terminal: bool = False  # the episode ends early after this step (not at the horizon)
 
 
 def approach(d: float, weight: float, eps: float) -> float:
