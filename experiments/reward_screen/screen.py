@@ -95,8 +95,7 @@ RECIPES = {
     ],
     # gated_pull with a floor under the action std: its CoACD knob x smooth s1 run ended with
     # episodes straddling the knob (stage 3 in 0.46-0.67 over its last 40 iterations) while its
-    # success climbed (0.00 at 150, 0.15-0.27 from 290), and the floor had rescued that seed
-    # under gated_push
+    # success climbed (0.00 at 150, 0.15-0.27 from 290) while its action std fell to 0.58
     "gated_pull_floor": [
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "agent.min_std=0.4",
