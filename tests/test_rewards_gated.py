@@ -168,6 +168,26 @@ def test_keep_opening_pays_an_opening_after_the_grasp_is_lost():
     assert opening_pay(keep, slipped) == 0.0  # never grasped
 
 
+def test_under_gated_pull_a_pull_that_opens_5_cm_and_slips_pays_more_than_holding_still():
+    """The reward screen's `gated_pull` weights (keep_opening, w_progress 120, success_bonus
+    60) against keep_opening alone: the slip lands in stage 2 or 3 with 5 cm opened."""
+    pull = GatedParams(keep_opening=True, w_progress=120.0, success_bonus=60.0)
+    keep = GatedParams(keep_opening=True)
+    held = values(stage=4, d2=0.01, aperture=0.3, straddle=True, engaged=True)
+    slips = (
+        values(stage=2, d1=0.06, d2=0.05, aperture=0.3, progress=0.25),
+        values(stage=3, d2=0.02, aperture=0.3, straddle=True, progress=0.25),
+    )
+
+    def pay(params, v) -> float:
+        return sum(value for _, value in GATED.weighted_terms(v, params))
+
+    for slipped in (dataclasses.replace(v, grasped=True) for v in slips):
+        assert next_stage(4, slipped, pull) == slipped.stage
+        assert pay(pull, slipped) > pay(pull, held)
+        assert pay(keep, slipped) < pay(keep, held)
+
+
 def test_an_unknown_variant_is_refused_with_the_list_of_variants():
     with pytest.raises(RealIkeaError, match="use one of appendix, gated"):
         reward_from_config({"variant": "shaped"})
