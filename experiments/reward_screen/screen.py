@@ -87,15 +87,15 @@ RECIPES = {
     # ended at a std of 0.18-0.30 (exploration.md)
     "gated_push_floor": ["task/reward=gated", "task.reward.w_push=40.0", "agent.min_std=0.4"],
     # gated with the opening kept from the first grasp on and paid three times as much: a pull
-    # that opens 5 cm and slips then earns more (stage 2-3, 25-32 a step, + 15) than holding
-    # the grasp still (about 40), where gated_keep's weights made the two about equal
+    # that opens 5 cm and slips then earns more a step (stage 2 or 3, 17-27, plus 30 for the
+    # opening) than holding the grasp still (about 40); at w_progress 40 it earns 27-37
     "gated_pull": [
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0",
     ],
-    # gated_pull with a floor under the action std: its CoACD knob x smooth s1 run ended with
-    # episodes straddling the knob (stage 3 in 0.46-0.67 over its last 40 iterations) while its
-    # success climbed (0.00 at 150, 0.15-0.27 from 290) while its action std fell to 0.58
+    # gated_pull with a floor under the action std, tried on the CoACD knob x smooth s1 run that
+    # ended straddling the knob (stage 3 in 0.61 of its last 20 iterations): its std never fell
+    # below 0.58, so the floor never engaged (every logged value as gated_pull's to 164)
     "gated_pull_floor": [
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "agent.min_std=0.4",
