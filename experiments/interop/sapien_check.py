@@ -1,22 +1,22 @@
-"""The exported URDFs in SAPIEN against the exported MJCFs in MuJoCo; writes sapien.md.
+"""The exported URDFs in SAPIEN against the exported MJCFs in MuJoCo; writes results/sapien.md.
 
-    pip install sapien==3.0.3   # not a project dependency: a venv with --system-site-packages
-    PYTHONPATH=. nice -n 10 python experiments/interop/sapien_check.py [--work DIR] [--out FILE]
+    pip install -e '.[interop]'   # SAPIEN 3.0.3, an extra: not needed by the rest of the project
+    nice -n 10 python experiments/interop/sapien_check.py [--work DIR] [--out FILE]
 
-The six configurations of parity.py (two per kind, every category twice), exported to URDF and
-MJCF (CoACD) at high and smooth resistance as parity.py does, are loaded with SAPIEN's URDF
-loader into a CPU PhysX scene (no renderer: the URDF's <visual> elements are dropped before
-loading, since SAPIEN builds render materials for them and this machine has no Vulkan device)
-and pulled at the handle with 0.5x, 1.2x and 2x their breakaway force for 1 s, as parity.py
-does in PyBullet, twice: as loaded, and with the joint friction emulated.
+The six configurations of pybullet_parity.py (two per kind, every category twice), exported to
+URDF and MJCF (CoACD) at high and smooth resistance as pybullet_parity.py does, are loaded with
+SAPIEN's URDF loader into a CPU PhysX scene (no renderer: the URDF's <visual> elements are
+dropped before loading, since SAPIEN builds render materials for them and this machine has no
+Vulkan device) and pulled at the handle with 0.5x, 1.2x and 2x their breakaway force for 1 s,
+as pybullet_parity.py does in PyBullet, twice: as loaded, and with the joint friction emulated.
 
 As loaded, SAPIEN 3.0.3 makes the URDF's <dynamics damping> a joint drive (stiffness 0,
 damping c) and stores <dynamics friction> without applying it (PhysX's own joint friction
 coefficient stays at its default, 0.05, a unitless coefficient, not a force). Emulation: the
 drive becomes a velocity drive of target 0 with a large damping (BIG) capped at the friction
-(Coulomb friction, as parity.py's capped PyBullet motor), the damping is applied by hand as a
-joint force -c v, PhysX's joint friction coefficient is set to 0, and the links' default
-linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
+(Coulomb friction, as pybullet_parity.py's capped PyBullet motor), the damping is applied by
+hand as a joint force -c v, PhysX's joint friction coefficient is set to 0, and the links'
+default linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ from realikea.interop.sample import (
     sample_context,
 )
 
-DEFAULT_OUT = repo_path("experiments/interop/sapien.md")
+DEFAULT_OUT = repo_path("experiments/interop/results/sapien.md")
 BIG = 1e5  # drive damping of the emulated friction (N s/m, N m s/rad): a stiff velocity hold
 MODELS = ("emulated", "as loaded")
 
@@ -148,12 +148,12 @@ def render(lines, passed, total, worst, loaded_wrong, command, cost) -> str:
         "SAPIEN as loaded after 1 s | result |\n|---|---|---|---:|---:|---|---|---:|---|"
     )
     largest = ", ".join(f"{kind} {100 * v:.2f} %" for kind, v in worst.items())
-    return f"""# The exported URDF in SAPIEN against MuJoCo
+    return f"""# The exported URDF in SAPIEN against MuJoCo: the pulls
 
 Written by `{command}` ({cost}); SAPIEN {version("sapien")} (CPU PhysX, no renderer), MuJoCo
-{version("mujoco")}. {__doc__.split(chr(10) + chr(10), 2)[2].strip()}
+{version("mujoco")}. Method and reading: [the study's README](../README.md).
 
-Verdicts and pass criteria as in [report.md](report.md): still = moved less than 1 mm / 2 mrad;
+Verdicts and pass criteria as in [pybullet.md](pybullet.md): still = moved less than 1 mm / 2 mrad;
 opens = at least the task's partial opening; pass = both give the expected verdict (0.5× still,
 1.2× and 2× open) and, where the front moves, the openings agree within 10 % (after 1 s, or
 before MuJoCo's front reaches half its range).
@@ -163,11 +163,7 @@ before MuJoCo's front reaches half its range).
 
 **{passed} of {total} pulls pass with the friction emulated.** Largest relative difference of
 the openings before the stop: {largest}. As loaded (last column), {loaded_wrong} of {total} pulls
-miss the expected verdict: the URDF's friction is not applied, and what resists instead is
-PhysX's own (the joint friction coefficient and link damping SAPIEN leaves at their defaults).
-
-Not checked here: the visual meshes (dropped before loading), rendering, contacts (the fingertip
-probe of report.md), SAPIEN's GPU PhysX.
+miss the expected verdict.
 """
 
 
@@ -189,7 +185,7 @@ def main(argv=None) -> int:
             for kind, value in mode_worst.items():
                 worst[kind] = max(worst.get(kind, 0.0), value)
     cost = f"{time.perf_counter() - start:.0f} s wall, {time.process_time() - cpu:.0f} s CPU"
-    command = "PYTHONPATH=. nice -n 10 python experiments/interop/sapien_check.py"
+    command = "nice -n 10 python experiments/interop/sapien_check.py"
     args.out.write_text(render(lines, passed, total, worst, loaded_wrong, command, cost))
     print(f"wrote {args.out}: {passed} of {total} pulls pass ({cost})")
     return 0 if passed == total else 1

@@ -1,7 +1,7 @@
 """An exported URDF in PyBullet, with the joint resistance PyBullet does not apply by itself.
 
 PyBullet reads a URDF joint's `<dynamics damping friction>` but uses only the damping (a force
--c v on the joint, the same as applying it by hand: `experiments/interop/report.md`); the
+-c v on the joint, the same as applying it by hand: `experiments/interop/results/pybullet.md`); the
 friction is stored and ignored. Instead every joint gets a velocity motor of target 0 that holds
 up to an impulse of 1 N s a step (500 N at 2 ms), which locks the front. Coulomb friction is
 emulated here by that same motor with its force capped at the joint's friction: it cancels any

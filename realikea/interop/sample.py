@@ -1,4 +1,4 @@
-"""The sample both cross-simulator checks pull (`experiments/interop/parity.py` in PyBullet,
+"""The sample both cross-simulator checks pull (`experiments/interop/pybullet_parity.py` in PyBullet,
 `sapien_check.py` in SAPIEN): six configurations, two per kind and every category twice, built
 into a scratch library and exported to URDF and MJCF at each resistance mode."""
 

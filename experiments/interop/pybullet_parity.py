@@ -1,6 +1,6 @@
-"""The exported URDFs in PyBullet against the exported MJCFs in MuJoCo; writes report.md.
+"""The exported URDFs in PyBullet against the exported MJCFs in MuJoCo; writes results/pybullet.md.
 
-    PYTHONPATH=. nice -n 10 python experiments/interop/parity.py [--work DIR] [--out FILE]
+    nice -n 10 python experiments/interop/pybullet_parity.py [--work DIR] [--out FILE]
 
 A sample of six configurations (two per kind, every category twice) is built into a scratch
 library (`--work`, a temporary folder by default; part meshes come from the project's cache) and
@@ -18,7 +18,10 @@ import resource
 import sys
 import tempfile
 import time
+from dataclasses import dataclass, field
+from importlib.metadata import version
 from pathlib import Path
+from typing import NamedTuple
 
 from realikea.assets.library import load_model
 from realikea.files import repo_path
@@ -46,7 +49,7 @@ from realikea.interop.sample import (
     sample_context,
 )
 
-DEFAULT_OUT = repo_path("experiments/interop/report.md")
+DEFAULT_OUT = repo_path("experiments/interop/results/pybullet.md")
 PROBE_BASE = "drawer_w60_h20"  # every two-point part is probed on this base
 FINE_STEP = 0.0005  # s: the finer step of the time-step check
 STOP_TOLERANCE = 1e-3  # a front within this fraction of its range's upper end is at its stop
@@ -166,100 +169,156 @@ def clearance_rows(prepared: dict[tuple, Prepared]) -> tuple[list[str], list[flo
     return rows, differences
 
 
-def unexpressed(prepared: dict[tuple, Prepared]) -> dict:
+class FrictionModels(NamedTuple):
+    """Opening after 1 s under one pull, with PyBullet's joint friction three ways."""
+
+    mujoco: float
+    emulated: float  # PyBullet's motor capped at the URDF friction (what (a) uses)
+    default: float  # PyBullet's motor as loaded
+    ignored: float  # PyBullet's motor off
+
+
+class DampingCheck(NamedTuple):
+    """One 1.2x pull with PyBullet's damping three ways, and its body damping on and off."""
+
+    config_id: str
+    joint_type: str
+    by_urdf: float  # after 1 s, <dynamics damping> applied by PyBullet
+    by_hand: float  # after 1 s, the same damping applied as a joint force -c v
+    difference: float  # the larger of the two at 1 s and before the stop
+    undamped: float  # after 1 s, no damping
+    then: float  # s: the comparison time before the stop
+    mujoco_then: float
+    undamped_body_then: float  # PyBullet with its body damping off (used)
+    damped_body_then: float  # PyBullet with its default body damping
+    undamped_body_difference: float
+    damped_body_difference: float
+
+
+class StepCheck(NamedTuple):
+    """One 1.2x pull at 2 ms and at FINE_STEP, before the stop: relative differences."""
+
+    config_id: str
+    then: float
+    coarse: float  # PyBullet vs MuJoCo at 2 ms
+    fine: float  # PyBullet vs MuJoCo at FINE_STEP
+    mujoco: float  # MuJoCo at 2 ms vs at FINE_STEP
+    pybullet: float  # PyBullet at 2 ms vs at FINE_STEP
+
+
+class Excursion(NamedTuple):
+    """How far a 2x pull takes the front past its upper limit."""
+
+    config_id: str
+    joint_type: str
+    upper: float
+    mujoco: float
+    pybullet: float
+
+
+class Creep(NamedTuple):
+    """Opening after 1 s at half the breakaway force."""
+
+    config_id: str
+    joint_type: str
+    mujoco: float
+    pybullet: float
+
+
+@dataclass
+class Unexpressed:
+    """What PyBullet does not express, measured on one resistance mode's sample."""
+
+    friction: list[tuple[str, str, float, FrictionModels]] = field(default_factory=list)
+    damping: list[DampingCheck] = field(default_factory=list)
+    steps: list[StepCheck] = field(default_factory=list)
+    limits: list[Excursion] = field(default_factory=list)
+    creep: list[Creep] = field(default_factory=list)
+    hold: dict[float, float] = field(default_factory=dict)  # pull x step -> opening after 1 s
+    hold_step: float = 0.0
+    hold_id: str = ""
+    largest_breakaway: float = 0.0
+
+
+def unexpressed(prepared: dict[tuple, Prepared]) -> Unexpressed:
     """What PyBullet does not express, measured on the high-resistance sample."""
-    found = {"friction": [], "damping": [], "limits": [], "creep": [], "steps": []}
+    found = Unexpressed()
     kinds_seen = set()
     for item in prepared.values():
-        jtype, upper = item.joint["type"], item.joint["range"][1]
-        row = {"id": item.config.id, "kind": item.config.base.kind, "type": jtype}
+        cid, jtype, upper = item.config.id, item.joint["type"], item.joint["range"][1]
         for multiple in (0.5, 2.0):
             force = multiple * item.breakaway
             reference, emulated = pull_both(item, force)
-            row[multiple] = {
-                "mujoco": reference.at(SECONDS),
-                "emulated": emulated.at(SECONDS),
-                **{
-                    model: pull_both(item, force, friction=model)[1].at(SECONDS)
-                    for model in ("default", "ignored")
-                },
-            }
+            default, ignored = (
+                pull_both(item, force, friction=model)[1].at(SECONDS)
+                for model in ("default", "ignored")
+            )
+            models = FrictionModels(reference.at(SECONDS), emulated.at(SECONDS), default, ignored)
+            found.friction.append((cid, jtype, multiple, models))
             if multiple == 0.5:
-                found["creep"].append((item.config.id, jtype, reference.at(SECONDS),
-                                       emulated.at(SECONDS)))  # fmt: skip
+                found.creep.append(Creep(cid, jtype, models.mujoco, models.emulated))
             else:
-                found["limits"].append(
-                    (item.config.id, jtype, upper, reference.q.max() - upper,
-                     emulated.q.max() - upper)
+                found.limits.append(
+                    Excursion(cid, jtype, upper, reference.q.max() - upper,
+                              emulated.q.max() - upper)
                 )  # fmt: skip
-        found["friction"].append(row)
         force = 1.2 * item.breakaway
         _, by_urdf = pull_both(item, force)
         _, by_hand = pull_both(item, force, damping="manual")
         _, undamped = pull_both(item, force, damping="off")
         reference, body_damped = pull_both(item, force, body_damping=PYBULLET_BODY_DAMPING)
         t = comparison_time(reference, upper)
-        found["damping"].append(
-            (item.config.id, jtype, by_urdf.at(SECONDS), by_hand.at(SECONDS),
-             max(relative_difference(by_urdf.at(s), by_hand.at(s)) for s in (t, SECONDS)),
-             undamped.at(SECONDS), reference.at(t), body_damped.at(t), t, by_urdf.at(t),
-             relative_difference(reference.at(t), body_damped.at(t)),
-             relative_difference(reference.at(t), by_urdf.at(t)))
+        found.damping.append(
+            DampingCheck(
+                cid, jtype, by_urdf.at(SECONDS), by_hand.at(SECONDS),
+                max(relative_difference(by_urdf.at(s), by_hand.at(s)) for s in (t, SECONDS)),
+                undamped.at(SECONDS), t, reference.at(t), by_urdf.at(t), body_damped.at(t),
+                relative_difference(reference.at(t), by_urdf.at(t)),
+                relative_difference(reference.at(t), body_damped.at(t)),
+            )
         )  # fmt: skip
         if item.config.base.kind not in kinds_seen:  # the same pull at a 4x finer step
             kinds_seen.add(item.config.base.kind)
             fine_mj, fine_pb = pull_both(item, force, timestep=FINE_STEP)
-            found["steps"].append(
-                (item.config.id, jtype, t, relative_difference(reference.at(t), by_urdf.at(t)),
-                 relative_difference(fine_mj.at(t), fine_pb.at(t)),
-                 relative_difference(reference.at(t), fine_mj.at(t)),
-                 relative_difference(by_urdf.at(t), fine_pb.at(t)))
+            found.steps.append(
+                StepCheck(
+                    cid, t, relative_difference(reference.at(t), by_urdf.at(t)),
+                    relative_difference(fine_mj.at(t), fine_pb.at(t)),
+                    relative_difference(reference.at(t), fine_mj.at(t)),
+                    relative_difference(by_urdf.at(t), fine_pb.at(t)),
+                )
             )  # fmt: skip
     drawer = next(i for i in prepared.values() if i.joint["type"] == "slide")
     step = float(load_model(drawer.mjcf).opt.timestep)
     joint = drawer.joint
-    found["hold"] = {
+    found.hold = {
         scale: pybullet_pull(
             drawer.urdf, drawer.handle, joint["anchor"], joint["axis"], scale / step, SECONDS,
             timestep=step, friction="default",
         ).at(SECONDS)
         for scale in (0.9, 1.1)
     }  # fmt: skip
-    found["hold_step"] = step
-    found["hold_id"] = drawer.config.id
-    breakaways = [i.breakaway for i in prepared.values()]
-    found["breakaway"] = (min(breakaways), max(breakaways))
+    found.hold_step = step
+    found.hold_id = drawer.config.id
+    found.largest_breakaway = max(i.breakaway for i in prepared.values())
     return found
 
 
 def render(pulls, worst, probes, passed, total, missing, command, cost) -> str:
-    """report.md."""
+    """results/pybullet.md: the measurements; what they mean is in the study's README."""
     lines = [
-        "# Parity across simulators: PyBullet against MuJoCo",
+        "# PyBullet against MuJoCo: the exported models pulled and probed",
         "",
-        f"Written by `{command}` ({cost}). MuJoCo runs the MJCF and PyBullet "
-        f"{_pybullet_version()} the URDF that `realikea assets export` wrote at one resistance "
-        "mode from the built library (`realikea/interop/`). Both step 2 ms (the MJCF's "
-        "timestep), gravity −9.81 m/s² on. "
-        "The pull is applied at the `handle` site (carried on the part link in PyBullet) along "
-        "its direction of opening: the slide's axis, or the tangent of the hinge's circle "
-        "through the handle (a torque of force × lever arm). Breakaway force at the handle: the "
-        "joint's friction loss for a slide, friction loss / lever arm for a hinge. PyBullet's "
-        "joint friction is emulated by a velocity motor of target 0 capped at the URDF's "
-        "`<dynamics friction>`; its damping is PyBullet's own from `<dynamics damping>`, and "
-        "the damping PyBullet adds to every body it loads is switched off (below).",
+        f"Written by `{command}` ({cost}); PyBullet {version('pybullet')}, MuJoCo "
+        f"{version('mujoco')}. Method and reading: [the study's README](../README.md).",
         "",
         "## (a) Constant pull at the handle for 1 s",
         "",
         f"Verdicts: still = moved less than {STILL['slide'] * 1e3:g} mm / "
-        f"{STILL['hinge'] * 1e3:g} mrad (tests/test_physics.py's bounds); opens = at least the "
-        f"task's partial opening ({OPENS['slide'] * 100:g} cm / {OPENS['hinge']:g} rad). Pass: "
-        "both simulators give the expected verdict (0.5× still, 1.2× and 2× open) and, where the "
-        f"front moves, both differences are within {TOLERANCE:.0%}. A front that reached its "
-        "joint's stop within the second is marked (stop): its 1 s opening is the range in both "
-        "simulators and says little, so a second comparison is made when MuJoCo's front "
-        "reaches half its range (or at 1 s if it does not), clear of the stop. 1.2× is an "
-        "extra pull, mostly mid-travel at 1 s.",
+        f"{STILL['hinge'] * 1e3:g} mrad; opens = at least {OPENS['slide'] * 100:g} cm / "
+        f"{OPENS['hinge']:g} rad. Pass: both simulators give the expected verdict (0.5× still, "
+        f"1.2× and 2× open) and, where the front moves, both differences are within "
+        f"{TOLERANCE:.0%}. (stop): the front reached its joint's stop within the second.",
         "",
         "| configuration | kind | category | mode | pull | MuJoCo after 1 s | PyBullet after 1 s "
         "| difference | before the stop: t, MuJoCo / PyBullet = difference | verdicts MuJoCo / "
@@ -273,22 +332,16 @@ def render(pulls, worst, probes, passed, total, missing, command, cost) -> str:
         + ", ".join(
             f"{kind} {_pct(after)} / {_pct(before)}" for kind, (after, before) in worst.items()
         )
-        + ". Where the 1 s difference is the larger, the front is at its stop and the "
-        "difference is MuJoCo's soft joint limit (it lets a flap fall past its stop; joint "
-        "limits, below). Before the stop what is left is mostly integration error at 2 ms (time "
-        "step, below).",
+        + ".",
         "",
         "## (b) Fingertip probe behind a two-point bar",
         "",
         f"A {probe.PROBE_HALF[0] * 2e3:g} × {probe.PROBE_HALF[1] * 2e3:g} mm box "
-        f"{probe.PROBE_HALF[2] * 2e3:g} mm thick (the Franka Hand pad, `realikea/sim/robot.py`) "
-        f"on a slide, pushed with {probe.PROBE_FORCE:g} N (damping {probe.PROBE_DAMPING:g} "
-        f"N s/m, {probe.PROBE_MASS:g} kg, {probe.TIMESTEP * 1e3:g} ms steps, no gravity) for "
-        f"{probe.SECONDS:g} s down through the gap at mid-depth, from "
-        f"{probe.CLEARANCE_MARGIN * 1e3:g} mm above the part, as tests/test_physics.py does with "
-        "an 8 mm probe. MuJoCo: the exported pieces fixed in the part frame (the test's model). "
-        "PyBullet: the whole exported URDF with the front held shut and the probe as a second "
-        "body. passes = travelled past the whole part; blocked = stopped within "
+        f"{probe.PROBE_HALF[2] * 2e3:g} mm thick on a slide, pushed with {probe.PROBE_FORCE:g} N "
+        f"(damping {probe.PROBE_DAMPING:g} N s/m, {probe.PROBE_MASS:g} kg, "
+        f"{probe.TIMESTEP * 1e3:g} ms steps, no gravity) for {probe.SECONDS:g} s down through "
+        f"the gap at mid-depth, from {probe.CLEARANCE_MARGIN * 1e3:g} mm above the part. "
+        "passes = travelled past the whole part; blocked = stopped within "
         f"{probe.BLOCKED * 1e3:g} mm of the start; stuck = stopped inside the part. "
         f"**{passed} of {total}** runs give the expected outcome in both simulators.",
         "",
@@ -307,75 +360,65 @@ def _span(values: list[float], scale: float = 1e3) -> str:
     return f"{scale * min(values):.2f}–{scale * max(values):.2f}"
 
 
-def render_missing(found: dict, clearances: tuple[list[str], list[float]], earlier) -> str:
-    """The section on what PyBullet cannot express, with the measured effect."""
+def render_missing(found: Unexpressed, clearances: tuple[list[str], list[float]], earlier) -> str:
+    """The tables of what PyBullet does not express, each under the condition it measures."""
     friction = [
-        f"| {r['id']} | {m:g}× | "
-        + " | ".join(_q(r[m][k], r["type"]) for k in ("mujoco", "emulated", "default", "ignored"))
-        + " |"
-        for r in found["friction"]
-        for m in (0.5, 2.0)
+        f"| {cid} | {multiple:g}× | " + " | ".join(_q(value, jtype) for value in models) + " |"
+        for cid, jtype, multiple, models in found.friction
     ]
     damping = [
-        f"| {cid} | {_q(a, t)} | {_q(b, t)} | {_pct(d)} | {_q(off, t)} |"
-        for cid, t, a, b, d, off, *_ in found["damping"]
+        f"| {d.config_id} | {_q(d.by_urdf, d.joint_type)} | {_q(d.by_hand, d.joint_type)} "
+        f"| {_pct(d.difference)} | {_q(d.undamped, d.joint_type)} |"
+        for d in found.damping
     ]
     body = [
-        f"| {cid} | {then:.3f} s | {_q(mj, t)} | {_q(undamped_body, t)} = {_pct(d0)} "
-        f"| {_q(damped, t)} = {_pct(d)} |"
-        for cid, t, _, _, _, _, mj, damped, then, undamped_body, d, d0 in found["damping"]
+        f"| {d.config_id} | {d.then:.3f} s | {_q(d.mujoco_then, d.joint_type)} "
+        f"| {_q(d.undamped_body_then, d.joint_type)} = {_pct(d.undamped_body_difference)} "
+        f"| {_q(d.damped_body_then, d.joint_type)} = {_pct(d.damped_body_difference)} |"
+        for d in found.damping
     ]
     limits = [
-        f"| {cid} | {_q(upper, t)} | {_q(mj, t)} | {_q(pb, t)} |"
-        for cid, t, upper, mj, pb in found["limits"]
+        f"| {e.config_id} | {_q(e.upper, e.joint_type)} | {_q(e.mujoco, e.joint_type)} "
+        f"| {_q(e.pybullet, e.joint_type)} |"
+        for e in found.limits
     ]
-    creep = [f"| {cid} | {_q(mj, t)} | {_q(pb, t)} |" for cid, t, mj, pb in found["creep"]]
+    creep = [
+        f"| {c.config_id} | {_q(c.mujoco, c.joint_type)} | {_q(c.pybullet, c.joint_type)} |"
+        for c in found.creep
+    ]
     steps = [
-        f"| {cid} | {t:.3f} s | {_pct(coarse)} | {_pct(fine)} | {_pct(mj)} | {_pct(pb)} |"
-        for cid, _, t, coarse, fine, mj, pb in found["steps"]
+        f"| {s.config_id} | {s.then:.3f} s | {_pct(s.coarse)} | {_pct(s.fine)} "
+        f"| {_pct(s.mujoco)} | {_pct(s.pybullet)} |"
+        for s in found.steps
     ]
-    step = found["hold_step"]
-    hold = found["hold"]
+    step, hold = found.hold_step, found.hold
+    fine = f"{FINE_STEP * 1e3:g} ms"
     return "\n".join(
         [
-            "## What PyBullet cannot express, and the measured effect (high resistance)",
+            "## What PyBullet does not express, and the measured effect (high resistance)",
             "",
-            "**Joint friction.** PyBullet reads the URDF's `<dynamics friction>` (getJointInfo "
-            "returns it) but never applies it. What acts on the joint instead is the velocity "
-            "motor PyBullet puts on every revolute and prismatic joint at load: target velocity "
-            "0, at most 1 N s of impulse a step, so it holds up to 1/Δt — "
-            f"{1 / step:.0f} N at {step * 1e3:g} ms (on {found['hold_id']}: a pull of "
-            f"{0.9 / step:.0f} N leaves it at {_q(hold[0.9], 'slide')}, {1.1 / step:.0f} N "
-            f"takes it to {_q(hold[1.1], 'slide')}), {1 / step / found['breakaway'][1]:.0f}× "
-            f"the largest breakaway force here ({found['breakaway'][1]:.0f} N). Loaded "
-            "as is, every front is locked (`default`); with that motor switched off (`ignored`) "
-            "every front opens at half its breakaway force. Emulation: the same motor with its "
-            "force capped at the URDF friction (`emulated`, what the tables above use): the "
-            "motor cancels motion while the load is below the friction and pushes back with "
-            "exactly the friction above it, i.e. Coulomb friction with a hard (impulse) "
-            "constraint. Opening after 1 s:",
+            f"**Joint friction.** PyBullet's default joint motor on {found.hold_id} at "
+            f"{step * 1e3:g} ms: a pull of {0.9 / step:.0f} N leaves it at "
+            f"{_q(hold[0.9], 'slide')}, {1.1 / step:.0f} N takes it to "
+            f"{_q(hold[1.1], 'slide')}; the largest breakaway force here is "
+            f"{found.largest_breakaway:.0f} N. Opening after 1 s:",
             "",
             "| configuration | pull | MuJoCo | PyBullet, emulated | PyBullet, default motor "
             "| PyBullet, friction ignored |",
             "|---|---|---:|---:|---:|---:|",
             *friction,
             "",
-            "**Damping.** PyBullet does apply `<dynamics damping>` (as −c·v on the joint). "
-            "Checked against the damping switched off (changeDynamics jointDamping=0) and "
-            "applied by hand as a joint force −c·v, at 1.2× breakaway (largest difference of "
-            "the openings at 1 s and at half range; without damping for scale):",
+            "**Damping.** `<dynamics damping>` as PyBullet applies it, as a joint force −c·v "
+            "applied by hand, and off, at 1.2× breakaway (difference: the larger at 1 s and "
+            "before the stop):",
             "",
             "| configuration | URDF damping, after 1 s | by hand, after 1 s | difference "
             "| no damping, after 1 s |",
             "|---|---:|---:|---:|---:|",
             *damping,
             "",
-            "PyBullet also damps every multibody it loads, whatever the URDF says: linear and "
-            f"angular damping k = {PYBULLET_BODY_DAMPING:g}: a force m·v·(k + k·|v|) and a "
-            "torque I·ω·(k + k·|ω|) on each link. "
-            "The MJCF has nothing like it, so `realikea/interop/pybullet_sim.py` sets both to 0 "
-            "(every table above). Left on, it slows the fronts by about 1 % (on the flaps that "
-            "happens to offset part of PyBullet's integration error at 2 ms, see time step); "
+            "**Body damping.** PyBullet's linear and angular damping of every loaded body, off "
+            f"(used in every table above) and at PyBullet's default {PYBULLET_BODY_DAMPING:g}; "
             "openings at 1.2× breakaway before the stop, against MuJoCo:",
             "",
             "| configuration | t | MuJoCo | PyBullet, body damping 0 (used) | PyBullet, body "
@@ -383,43 +426,28 @@ def render_missing(found: dict, clearances: tuple[list[str], list[float]], earli
             "|---|---:|---:|---:|---:|",
             *body,
             "",
-            "**Time step.** Both simulators step 2 ms here, MuJoCo with its Euler integrator "
-            "(damping implicit), PyBullet with its semi-implicit one. The differences left "
-            "before the stop are mostly integration error: the same 1.2× pulls at "
-            f"{FINE_STEP * 1e3:g} ms (one configuration a kind) shrink them, and PyBullet's "
-            "opening moves more with the step than MuJoCo's:",
+            f"**Time step.** The 1.2× pulls at 2 ms and at {fine} (one configuration a kind), "
+            "relative differences of the openings before the stop:",
             "",
-            "| configuration | t | PyBullet vs MuJoCo at 2 ms | at "
-            f"{FINE_STEP * 1e3:g} ms | MuJoCo 2 ms vs {FINE_STEP * 1e3:g} ms | PyBullet 2 ms vs "
-            f"{FINE_STEP * 1e3:g} ms |",
+            f"| configuration | t | PyBullet vs MuJoCo at 2 ms | at {fine} | MuJoCo 2 ms vs "
+            f"{fine} | PyBullet 2 ms vs {fine} |",
             "|---|---:|---:|---:|---:|---:|",
             *steps,
             "",
-            "**Soft friction: creep below breakaway.** MuJoCo's friction loss is a soft "
-            "constraint (`solreffriction 0.01`, `solimpfriction 0.99 0.999`): a front loaded "
-            "at half its breakaway creeps; PyBullet's motor holds it exactly. Opening after 1 s "
-            "at 0.5×:",
+            "**Creep below breakaway.** Opening after 1 s at 0.5×:",
             "",
             "| configuration | MuJoCo | PyBullet |",
             "|---|---:|---:|",
             *creep,
             "",
-            "**Joint limits.** MuJoCo's limit is soft too: a front driven into its stop at 2× "
-            "goes past it before it settles, a flap under gravity by tens of milliradians; "
-            "PyBullet's limit constraint lets it go much less far. Both settle at the stop, so "
-            "the 1 s openings agree within 0.2 % but for a flap still falling onto it. Largest "
-            "excursion past the upper limit:",
+            "**Joint limits.** Largest excursion past the upper limit under a 2× pull:",
             "",
             "| configuration | upper limit | MuJoCo past it | PyBullet past it |",
             "|---|---:|---:|---:|",
             *limits,
             "",
-            "**Contacts: collision margin and soft contacts.** PyBullet's URDF importer gives "
-            "every convex mesh piece a collision margin that its contacts keep clear (boxes keep "
-            "theirs inside their extents), and its contacts are rigid; MuJoCo's geoms have no "
-            "margin here and its contacts are soft (`solref 0.004 1`). Distance from the probe, "
-            "centred under the bar, to the part's pieces (CoACD) and, in PyBullet, to the "
-            "front's box below it:",
+            "**Contacts.** Distance from the probe, centred under the bar, to the part's pieces "
+            "(CoACD) and, in PyBullet, to the front's box below it:",
             "",
             "| configuration | geometric (gap/2 − 4.5 mm) | MuJoCo | PyBullet | PyBullet − "
             "MuJoCo | PyBullet, to the front |",
@@ -427,22 +455,10 @@ def render_missing(found: dict, clearances: tuple[list[str], list[float]], earli
             *clearances[0],
             "",
             f"PyBullet sees the gap behind every bar {_span([-d for d in clearances[1]])} mm "
-            "narrower than MuJoCo (the pieces' margin, 1 mm where the bar's nearest point faces "
-            "the probe's flat top, less on the bows, whose nearest point is at the probe's "
-            "edge; the front's box is where its geometry is), so a fingertip has that much less "
-            "room; every catalog gap (16 mm or more) "
-            "still takes the 9 mm pad with room to spare. On the hull PyBullet stops the probe "
-            f"{_span(earlier)} mm earlier than MuJoCo (the blocked travels in the probe table): "
-            "the margin again. Neither difference changes an outcome of check (b).",
+            f"narrower than MuJoCo; on the hull it stops the probe {_span(earlier)} mm earlier "
+            "(the blocked travels in the probe table).",
         ]
     )
-
-
-def _pybullet_version() -> str:
-    """The installed PyBullet's version."""
-    from importlib.metadata import version
-
-    return version("pybullet")
 
 
 def main(argv=None) -> int:
@@ -480,7 +496,7 @@ def main(argv=None) -> int:
         f"{time.process_time() - cpu + children.ru_utime + children.ru_stime:.0f} s CPU "
         "on the shared 2-core machine"
     )
-    command = "PYTHONPATH=. nice -n 10 python experiments/interop/parity.py"
+    command = "nice -n 10 python experiments/interop/pybullet_parity.py"
     missing = render_missing(found, clearances, earlier)
     report = render(pulls, worst, probes, passed, total, missing, command, cost)
     args.out.write_text(report)
