@@ -32,12 +32,15 @@ from __future__ import annotations
 
 import argparse
 import importlib.metadata
+import json
 import os
 import platform
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict, dataclass
 from functools import partial
 from pathlib import Path
+from typing import NamedTuple
 
 for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_name, "1")  # every worker and subprocess single-threaded, alike
@@ -50,6 +53,7 @@ from omegaconf import OmegaConf  # noqa: E402
 
 from realikea.assets.library import training_configurations  # noqa: E402
 from realikea.config import load_config  # noqa: E402
+from realikea.files import atomic_write_text  # noqa: E402
 from realikea.pool.env_pool import EnvPool, available_cores  # noqa: E402
 from realikea.pool.gym_env import OpenTaskEnv  # noqa: E402
 from realikea.tasks import observations  # noqa: E402
@@ -298,6 +302,64 @@ def physics_per_step(rec: Recording, warmup: int) -> float:
 
 
 # --- report -------------------------------------------------------------------------------------
+class RateRow(NamedTuple):
+    """One number of envs: control steps per second three ways, measured back to back."""
+
+    envs: int
+    steps: int
+    best_of: int
+    pool: float
+    limit: float  # the physics limit: mujoco.rollout on every core
+    vec: float  # gymnasium's AsyncVectorEnv
+    deviation: float  # replay check: max abs difference of the rollout's state from the recording
+    contacts: float  # mean ncon per env after each control step
+    pool_start: float  # s
+    vec_start: float  # s
+
+
+class SourceCost(NamedTuple):
+    """One collision source's physics cost, single thread."""
+
+    physics_us: float  # per physics step
+    contacts: float
+    geoms: float  # per scene
+
+
+@dataclass
+class Measured:
+    """Everything one run measured: the report is rendered from it alone (--render)."""
+
+    machine: str
+    versions: dict[str, str]
+    load: tuple[float, float]  # load average at the start and the end
+    minutes: float
+    cores: int
+    rows: list[RateRow]
+    profile_envs: int
+    profile_rate: float
+    profile_limit: float
+    parts: list[tuple[str, float]]  # ms per env-step by part (breakdown)
+    wall_ms: float  # main process per pool step
+    transfer_ms: float  # of which beyond the slowest worker's compute
+    core_share: float  # of a core each worker got while stepping
+    rollout_us: float  # CPU per physics step in mujoco.rollout
+    decimation: int
+    design_envs: int
+    design_best_of: int
+    design: dict[str, float]
+    source_envs: int
+    sources: dict[str, SourceCost]
+
+    @classmethod
+    def from_json(cls, text: str) -> Measured:
+        data = json.loads(text)
+        data["load"] = tuple(data["load"])
+        data["rows"] = [RateRow(*row) for row in data["rows"]]
+        data["parts"] = [tuple(part) for part in data["parts"]]
+        data["sources"] = {k: SourceCost(*v) for k, v in data["sources"].items()}
+        return cls(**data)
+
+
 def breakdown(seconds: dict, busy: float, env_steps: int) -> list[tuple[str, float]]:
     """ms per env-step by part of the task, and the rest of the pool's step (in-process)."""
     ms = {k: v / env_steps * 1e3 for k, v in seconds.items()}
@@ -342,7 +404,15 @@ def main() -> None:
     parser.add_argument("--source-envs", type=int, default=16, help="configs for CoACD vs hull")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", type=Path, default=Path(__file__).with_suffix(".md"))
+    parser.add_argument(
+        "--render",
+        type=Path,
+        metavar="RECORD.json",
+        help="write the report again from a run's record, measuring nothing",
+    )
     args = parser.parse_args()
+    if args.render:
+        return render_only(args.render)
     started, load0 = time.perf_counter(), os.getloadavg()
     cores, w = available_cores(), args.warmup
     cfg = load_config(OVERRIDES)
@@ -363,9 +433,9 @@ def main() -> None:
             best = np.maximum(best, (pool, limit, vec))
         pool, limit, vec = best
         rows.append(
-            (n, steps, repeats, pool, limit, vec, deviation, rec.mean_contacts)
-            + (pool_start, vec_start)
-        )
+            RateRow(n, steps, repeats, pool, limit, vec, deviation, rec.mean_contacts,
+                    pool_start, vec_start)
+        )  # fmt: skip
         print(f"{n:3d} envs: pool {pool:7.1f}  physics {limit:7.1f}  async {vec:7.1f} steps/s")
 
     n = args.profile_envs
@@ -407,154 +477,168 @@ def main() -> None:
         spaths = [p.with_name(f"model_{source}.xml") for p in paths[:n]]
         srec = record(scfg, spaths, args.steps)
         ngeom = float(np.mean([t.model.ngeom for t in srec.tasks]))
-        sources[source] = (physics_per_step(srec, w), srec.mean_contacts, ngeom)
+        sources[source] = SourceCost(physics_per_step(srec, w), srec.mean_contacts, ngeom)
     print("sources:", sources)
 
-    total = time.perf_counter() - started
-    extra = {
-        "core_share": float(np.mean(window["worker_cpu"])) / window["wall"],
-        "rollout_us": rollout_us,
-        "decimation": rec.decimation,
-    }
-    write_report(args, rows, parts, transfer_ms, wall_ms, prof_rate, prof_limit, extra,
-                 design, sources, total, load0, os.getloadavg())  # fmt: skip
+    measured = Measured(
+        machine=machine(),
+        versions={
+            "MuJoCo": mujoco.__version__,
+            "mink": importlib.metadata.version("mink"),
+            "gymnasium": gym.__version__,
+        },
+        load=(load0[0], os.getloadavg()[0]),
+        minutes=(time.perf_counter() - started) / 60,
+        cores=cores,
+        rows=rows,
+        profile_envs=args.profile_envs,
+        profile_rate=prof_rate,
+        profile_limit=prof_limit,
+        parts=parts,
+        wall_ms=wall_ms,
+        transfer_ms=transfer_ms,
+        core_share=float(np.mean(window["worker_cpu"])) / window["wall"],
+        rollout_us=rollout_us,
+        decimation=rec.decimation,
+        design_envs=args.design_envs,
+        design_best_of=args.repeats + 1,
+        design=design,
+        source_envs=args.source_envs,
+        sources=sources,
+    )
+    atomic_write_text(args.out.with_suffix(".json"), json.dumps(asdict(measured), indent=1) + "\n")
+    atomic_write_text(args.out, render(measured))
+    print(f"wrote {args.out} and its record {args.out.with_suffix('.json').name}")
 
 
-def write_report(args, rows, parts, transfer_ms, wall_ms, prof_rate, prof_limit, extra,
-                 design, sources, total, load0, load1) -> None:  # fmt: skip
+def render(m: Measured) -> str:
+    """bench_pool.md: the measurements and the figures derived from them; what they mean is in
+    experiments/benchmarks/README.md."""
     lines = [
         "# Env pool benchmark",
         "",
-        "Command (from the repository root):",
+        "Command (from the repository root), and what it measured "
+        "([`bench_pool.json`](bench_pool.json); reading: [README.md](README.md#env-pool)):",
         "",
         "    python experiments/benchmarks/bench_pool.py",
         "",
-        f"Machine: {machine()}; MuJoCo {mujoco.__version__}, "
-        f"mink {importlib.metadata.version('mink')}, "
-        f"gymnasium {gym.__version__}. The machine is shared: load average "
-        f"{load0[0]:.1f} at the start, {load1[0]:.1f} at the end (other jobs running), so "
-        "compare the columns of one row (measured back to back), not rows across runs. "
-        f"Whole run: {total / 60:.1f} min.",
+        f"Machine: {m.machine}; "
+        + ", ".join(f"{name} {v}" for name, v in m.versions.items())
+        + f". Load average {m.load[0]:.1f} at the start, {m.load[1]:.1f} at the end (the "
+        "machine is shared: compare the columns of one row, measured back to back, not rows "
+        f"across runs). Whole run: {m.minutes:.1f} min.",
         "",
         f"Workload: configurations of `{' '.join(OVERRIDES)}` (two-point handles on every base, "
         "CoACD collision), env i on the i-th training draw, a scripted approach-grasp-pull "
         "policy with noise (replayed open-loop by all three), physics step 0.002 s, "
-        "decimation 50. Steps/s are control steps summed over the envs.",
+        f"decimation {m.decimation}. Steps/s are control steps summed over the envs. Physics "
+        "limit: the recorded physics replayed with `mujoco.rollout` on every core; replay "
+        "check: the end state of every rollout chunk against the recorded state. Contacts per env: "
+        "mean `ncon` after each control step in the timed window.",
         "",
         "## Control steps per second",
         "",
         "| envs | steps × best of | pool | physics limit | AsyncVectorEnv | pool / physics | "
         "pool / Async | contacts per env | replay max abs dstate | startup pool / Async (s) |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        *(
+            f"| {r.envs} | {r.steps} × {r.best_of} | {r.pool:.0f} | {r.limit:.0f} | {r.vec:.0f} "
+            f"| {r.pool / r.limit:.2f} | {r.pool / r.vec:.2f} | {r.contacts:.1f} "
+            f"| {r.deviation:.1e} | {r.pool_start:.1f} / {r.vec_start:.1f} |"
+            for r in m.rows
+        ),
     ]
-    for n, steps, reps, pool, limit, vec, dev, con, ps, vs in rows:
-        lines.append(
-            f"| {n} | {steps} × {reps} | {pool:.0f} | {limit:.0f} | {vec:.0f} | "
-            f"{pool / limit:.2f} | {pool / vec:.2f} | {con:.1f} | {dev:.1e} | {ps:.1f} / {vs:.1f} |"
-        )
-    lines += [
-        "",
-        "Physics limit: the recorded physics replayed with `mujoco.rollout`; the replay check (the "
-        "end state of every rollout chunk against the recorded state) shows it is the same "
-        "physics. Contacts per env: mean `ncon` after each control step in the timed window.",
-    ]
-    at = {r[0]: r for r in rows}
-    busy = sum(v for _, v in parts)
-    ik, mapping, physics, observe, reward, _, book = (v for _, v in parts)
-    rollout_us = extra["rollout_us"]
-    mj_step_us = physics / extra["decimation"] * 1e3
-    share, own = physics / busy, book / busy + transfer_ms / wall_ms
-    cores = available_cores()
-    lines += ["", "## Targets at 32 envs", ""]
+    at = {r.envs: r for r in m.rows}
     if 32 in at:
-        _, _, _, pool, limit, vec, *_ = at[32]
-        met = "met" if pool >= 0.9 * limit else "NOT met"
-        lines.append(f"- pool ≥ 0.9 × physics limit: {pool / limit:.2f} — **{met}**.")
-        met = "met" if pool >= 2 * vec else "NOT met"
-        lines.append(f"- pool ≥ 2 × AsyncVectorEnv: {pool / vec:.2f} — **{met}**.")
+        r = at[32]
         lines += [
             "",
-            f"AsyncVectorEnv reached {vec / limit:.2f} of the physics limit, the pool "
-            f"{pool / limit:.2f}. Both do the same per-env work (about "
-            f"{busy:.1f} ms per env-step, below); AsyncVectorEnv adds a pipe round trip and "
-            "pickled observation/info per env and step, which is small against that work, so "
-            "a 2× lead would need AsyncVectorEnv to waste half the machine. Across the table "
-            f"the pool / Async ratio goes from {rows[0][3] / rows[0][5]:.2f} at {rows[0][0]} "
-            f"env(s) to {rows[-1][3] / rows[-1][5]:.2f} at {rows[-1][0]} envs (AsyncVectorEnv "
-            "runs one process per env, and its startup grows with them: last column).",
+            "## Targets at 32 envs",
+            "",
+            f"- pool ≥ 0.9 × physics limit: {r.pool / r.limit:.2f} — "
+            f"**{'met' if r.pool >= 0.9 * r.limit else 'NOT met'}**.",
+            f"- pool ≥ 2 × AsyncVectorEnv: {r.pool / r.vec:.2f} — "
+            f"**{'met' if r.pool >= 2 * r.vec else 'NOT met'}**.",
+            f"- AsyncVectorEnv / physics limit: {r.vec / r.limit:.2f}.",
         ]
+    busy = sum(v for _, v in m.parts)
+    physics = dict(m.parts)["physics: decimation x mj_step (OpenTask.simulate)"]
+    bookkeeping = m.parts[-1][1]
+    share, transfer = physics / busy, m.transfer_ms / m.wall_ms
+    own = bookkeeping / busy + transfer
+    mj_step_us = physics / m.decimation * 1e3
     lines += [
         "",
-        f"## Where the time goes ({args.profile_envs} envs, profiled run)",
+        f"## Where the time goes ({m.profile_envs} envs, profiled run)",
         "",
-        f"Pool {prof_rate:.0f} steps/s against a physics limit of {prof_limit:.0f} in this run. "
-        "CPU time per env-step by part, measured in-process on the same actions with an "
-        "instrumented task (thread CPU time, so other jobs on the "
-        "machine do not inflate it; the physics row is what the limit pays). While stepping, "
-        f"the workers got {extra['core_share']:.0%} of a core each.",
+        f"Pool {m.profile_rate:.0f} steps/s against a physics limit of {m.profile_limit:.0f} in "
+        "this run. CPU time per env-step by part, measured in-process on the same actions with "
+        "an instrumented task (thread CPU time, so other jobs on the machine do not inflate "
+        f"it). While stepping, the workers got {m.core_share:.0%} of a core each.",
         "",
         "| part | ms per env-step | share |",
         "|---|---:|---:|",
-    ]
-    for name, value in parts:
-        lines.append(f"| {name} | {value:.3f} | {value / busy:.0%} |")
-    lines += [
+        *(f"| {name} | {value:.3f} | {value / busy:.0%} |" for name, value in m.parts),
         f"| **total per env-step** | **{busy:.3f}** | 100% |",
         "",
-        f"Main process per pool step: {wall_ms:.1f} ms wall, of which {transfer_ms:.2f} ms "
-        f"({transfer_ms / wall_ms:.1%}) is signalling, shared-memory copies and waiting beyond "
-        "the slowest worker's compute (transfer).",
+        "| derived | value |",
+        "|---|---:|",
+        f"| main process per pool step: wall | {m.wall_ms:.1f} ms |",
+        f"| of which transfer (signalling, shared-memory copies, waiting beyond the slowest "
+        f"worker's compute) | {m.transfer_ms:.2f} ms ({transfer:.1%}) |",
+        f"| physics, share of the workers' CPU per env-step | {share:.0%} |",
+        f"| the pool's own cost (bookkeeping + transfer) | {own:.1%} |",
+        f"| ceiling against raw `mj_step` on every core (physics share × (1 − transfer)) "
+        f"| {share * (1 - transfer):.2f} |",
+        f"| rollout per physics step (CPU, it also records the state) / `mj_step` in the "
+        f"workers | {m.rollout_us:.1f} / {mj_step_us:.1f} µs = {m.rollout_us / mj_step_us:.2f}× |",
+        f"| ceiling against the rollout limit "
+        f"| {min(1.0, share * m.rollout_us / mj_step_us) * (1 - transfer):.2f} |",
         "",
-        f"Reading: the physics is {share:.0%} of the workers' CPU per env-step and the pool's "
-        f"own cost (bookkeeping + transfer) {own:.1%}; the rest is the task's Python: the IK "
-        f"({ik:.2f} ms), the reward/termination code ({reward:.2f} ms), the action mapping "
-        f"around the IK ({mapping:.2f} ms) and the observation ({observe:.2f} ms) per env-step. "
-        "Against raw `mj_step` on every core, any design that runs this Python on the same "
-        f"cores reaches at most about {share * (1 - transfer_ms / wall_ms):.2f}. Per physics "
-        f"step, rollout (which also records the state after every step) costs "
-        f"{rollout_us:.1f} µs against {mj_step_us:.1f} µs of `mj_step` inside the workers "
-        f"(CPU time, same trajectories): {rollout_us / mj_step_us:.2f}×. Against the rollout "
-        "limit the ceiling is therefore "
-        f"about {min(1.0, share * rollout_us / mj_step_us) * (1 - transfer_ms / wall_ms):.2f}.",
-        "",
-        f"## Design check ({args.design_envs} envs, interleaved, best of {args.repeats + 1})",
+        f"## Design check ({m.design_envs} envs, interleaved, best of {m.design_best_of})",
         "",
         "| how | steps/s |",
         "|---|---:|",
+        *(f"| {name} | {value:.0f} |" for name, value in m.design.items()),
     ]
-    for name, value in design.items():
-        lines.append(f"| {name} | {value:.0f} |")
-    pool_d, serial_d, threaded_d, limit_d, limit_1 = design.values()
+    pool_d, serial_d, threaded_d, limit_d, limit_1 = m.design.values()
     lines += [
         "",
-        f"Worker processes: {pool_d / serial_d:.2f}× the serial loop; physics threaded through "
-        f"`mujoco.rollout` with the rest serial: {threaded_d / serial_d:.2f}×. On {cores} free "
-        "cores the profiled shares above put their ceilings at "
-        f"{cores * (1 - own):.2f}× (everything but the pool's own cost runs in parallel) and "
-        f"{1 / (1 - share + share / cores):.2f}× (only the physics runs in parallel; IK, action "
-        "mapping, reward and observation stay serial in one Python thread). In this window the "
-        f"shared machine gave pure physics {limit_d / limit_1:.2f}× for {cores} threads against "
-        "1, which bounds what any parallel design could show here.",
+        "| ratio | value |",
+        "|---|---:|",
+        f"| worker processes / serial loop | {pool_d / serial_d:.2f}× |",
+        f"| physics threaded through `mujoco.rollout`, the rest serial / serial loop "
+        f"| {threaded_d / serial_d:.2f}× |",
+        f"| ceiling on {m.cores} cores, everything but the pool's own cost in parallel "
+        f"| {m.cores * (1 - own):.2f}× |",
+        f"| ceiling on {m.cores} cores, only the physics in parallel "
+        f"| {1 / (1 - share + share / m.cores):.2f}× |",
+        f"| pure physics, {m.cores} threads / 1 thread, in this window "
+        f"| {limit_d / limit_1:.2f}× |",
     ]
-    (coacd_us, coacd_con, coacd_geom), (hull_us, hull_con, hull_geom) = (
-        sources["coacd"],
-        sources["hull"],
-    )
+    coacd, hull = m.sources["coacd"], m.sources["hull"]
     lines += [
         "",
-        f"## CoACD vs hull physics cost ({args.source_envs} configurations, same scripted "
+        f"## CoACD vs hull physics cost ({m.source_envs} configurations, same scripted "
         "policy, single thread)",
         "",
         "| source | µs per physics step | contacts (mean ncon) | geoms per scene |",
         "|---|---:|---:|---:|",
-        f"| CoACD | {coacd_us:.1f} | {coacd_con:.1f} | {coacd_geom:.0f} |",
-        f"| hull | {hull_us:.1f} | {hull_con:.1f} | {hull_geom:.0f} |",
+        *(
+            f"| {name} | {c.physics_us:.1f} | {c.contacts:.1f} | {c.geoms:.0f} |"
+            for name, c in (("CoACD", coacd), ("hull", hull))
+        ),
         "",
-        f"CoACD / hull: {coacd_us / hull_us:.2f}× per physics step.",
+        f"CoACD / hull: {coacd.physics_us / hull.physics_us:.2f}× per physics step.",
         "",
     ]
-    args.out.write_text("\n".join(lines))
-    print(f"wrote {args.out}")
+    return "\n".join(lines)
+
+
+def render_only(record: Path) -> None:
+    """Write the report again from a run's record, measuring nothing."""
+    atomic_write_text(record.with_suffix(".md"), render(Measured.from_json(record.read_text())))
+    print(f"wrote {record.with_suffix('.md')}")
 
 
 if __name__ == "__main__":
