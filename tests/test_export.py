@@ -22,7 +22,7 @@ from realikea.export.driver import export_configurations, export_folder
 from realikea.files import repo_path
 from realikea.sim.resistance import handle_resistance, lever_arm, mode, nominal
 
-REPORT_CSV = repo_path("experiments/fidelity/parts.csv")
+REPORT_CSV = repo_path("experiments/fidelity/results/parts.csv")
 HIGH = mode("high")  # what the fixture exports; the library is built at the nominal mode
 
 
@@ -259,7 +259,7 @@ def test_metadata_describes_the_configuration(exported, export_library, catalog,
     # the fidelity certificate is the report's row for this part and source
     certificate, row = meta["fidelity_certificate"], _report_row(part.id)
     assert certificate["source"] == source
-    assert certificate["origin"] == "experiments/fidelity/parts.csv"
+    assert certificate["origin"] == "experiments/fidelity/results/parts.csv"
     for direction in ("q_to_p", "p_to_q"):
         for stat in ("mean", "median", "p90"):
             expected = float(row[f"{source}_{direction}_{stat}_m"])

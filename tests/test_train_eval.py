@@ -284,7 +284,7 @@ def test_a_generalist_trains_two_iterations_on_a_mixed_draw_of_kinds(tmp_path):
 
 def test_a_checkpoint_of_the_appendix_layout_reads_its_terms_from_todays_observation():
     """Checkpoints before the articulation terms (28-D) still act, on their own terms."""
-    path = WORKSPACE / "experiments/learning/two_point_drawer_smooth_coacd/model_999.pt"
+    path = WORKSPACE / "experiments/learning/results/two_point_drawer_smooth_coacd/model_999.pt"
     policy = CheckpointPolicy(path)
     assert policy.index.tolist() == list(range(28))
     obs = np.random.default_rng(0).normal(size=(3, observations.SIZE))

@@ -39,8 +39,8 @@ from realikea.interop.parity import (
 from realikea.interop.pull import Trajectory, mujoco_pull, pybullet_pull
 from realikea.interop.pybullet_sim import PYBULLET_BODY_DAMPING
 from realikea.interop.sample import (
-    MODES,
     MULTIPLES,
+    SAMPLE_MODES,
     SOURCES,
     UNIT,
     Prepared,
@@ -473,13 +473,14 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="realikea_parity_") as scratch:
         work = args.work or Path(scratch)
         prepared = {
-            mode: prepare(sample, mode, ("coacd",), work, settings, cache_root) for mode in MODES
+            mode: prepare(sample, mode, ("coacd",), work, settings, cache_root)
+            for mode in SAMPLE_MODES
         }
         to_probe = [c for c in sample if c.part.category == "two_point" and c not in probed]
         probe_set = prepare(probed + to_probe, "high", SOURCES, work, settings, cache_root)
         print("built and exported", flush=True)
         pulls, worst = [], {}
-        for mode in MODES:
+        for mode in SAMPLE_MODES:
             rows, mode_worst = pull_rows(prepared[mode])
             pulls += rows
             for kind, (after, before) in mode_worst.items():

@@ -37,8 +37,8 @@ from realikea.files import repo_path
 from realikea.interop.parity import SECONDS, compare_pull
 from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction
 from realikea.interop.sample import (
-    MODES,
     MULTIPLES,
+    SAMPLE_MODES,
     UNIT,
     Prepared,
     prepare,
@@ -176,7 +176,7 @@ def main(argv=None) -> int:
     lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
     with tempfile.TemporaryDirectory(prefix="realikea_sapien_") as scratch:
         work = args.work or Path(scratch)
-        for mode in MODES:
+        for mode in SAMPLE_MODES:
             prepared = prepare(sample, mode, ("coacd",), work, settings, cache_root)
             mode_lines, mode_passed, mode_total, mode_worst, mode_wrong = rows(prepared)
             lines += mode_lines

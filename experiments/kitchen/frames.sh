@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Frames of hook_oracle where experiments/kitchen/hook_oracle.md falls short of 90 % (franka_hand,
+# Frames of hook_oracle where experiments/kitchen/results/hook_oracle.md falls short of 90 % (franka_hand,
 # elliptic, high resistance, test parts, kitchen): one episode per strategy label, its first
-# success if any, as an MP4 (git-ignored) and a four-frame PNG strip in experiments/kitchen/frames/.
+# success if any, as an MP4 (git-ignored) and a four-frame PNG strip in experiments/kitchen/results/frames/.
 # Usage: bash experiments/kitchen/frames.sh [EPISODES]   (default 4 recorded episodes a cell)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -11,5 +11,5 @@ for cell in "finger_pull drawer" "knob door" "two_point door"; do
   realikea eval policy=hook_oracle asset="$category" asset.kind="$kind" asset.split=test \
     resistance=high dr=randomized scene=kitchen gripper=franka_hand contact=elliptic \
     episodes=2 env.num_workers=0 video=true video_episodes="$EPISODES" \
-    video_path="experiments/kitchen/frames/hook_oracle_${category}_${kind}.mp4" | grep '^video'
+    video_path="experiments/kitchen/results/frames/hook_oracle_${category}_${kind}.mp4" | grep '^video'
 done

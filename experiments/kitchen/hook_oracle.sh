@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Form closure across the library: hook_oracle in high resistance on the held-out test parts in
 # the kitchen scene, every category on every kind, under franka_hand/elliptic and
-# menagerie_servo/pyramidal. Writes experiments/kitchen/hook_oracle.md.
+# menagerie_servo/pyramidal. Writes experiments/kitchen/results/hook_oracle.md.
 # Usage: bash experiments/kitchen/hook_oracle.sh [EPISODES]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
-OUT=experiments/kitchen/hook_oracle.md
+OUT=experiments/kitchen/results/hook_oracle.md
 TMP="$(mktemp)"
 trap 'rm -f "$TMP"' EXIT
 {

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The committed checkpoints that opened through a front's free edge (the hull finger-pull policy,
 # the CoACD knob policy; both trained freestanding on drawers in high resistance) evaluated on the
-# held-out test parts, freestanding and in the kitchen scene. Writes experiments/kitchen/reeval.md.
+# held-out test parts, freestanding and in the kitchen scene. Writes experiments/kitchen/results/reeval.md.
 # Usage: bash experiments/kitchen/reeval.sh [EPISODES]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
-OUT=experiments/kitchen/reeval.md
+OUT=experiments/kitchen/results/reeval.md
 TMP="$(mktemp)"
 trap 'rm -f "$TMP"' EXIT
 {

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Why doors stop at 0.74 in Table 2: heuristic_pull on the test two-point handles, smooth
 # resistance (nothing slips), kitchen, franka_hand / elliptic, per door base: success and partial
-# openings. Writes experiments/table2/doors_by_base.md.
+# openings. Writes experiments/table2/results/doors_by_base.md.
 # Usage: bash experiments/table2/doors_by_base.sh [EPISODES]   (default 20 per base)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-20}"
-OUT=experiments/table2/doors_by_base.md
+OUT=experiments/table2/results/doors_by_base.md
 {
   echo "# Doors by base (\`bash experiments/table2/doors_by_base.sh $EPISODES\`)"
   echo

@@ -1,8 +1,8 @@
 """Cross-preset report of Table 2: where the friction trap appears and why (experiments/table2).
 
 Reads every `<kind>/<gripper>_<contact>/table2.csv` written by `realikea eval table` (kinds:
-drawer, door) and the grip sweep's, and writes `report.md` (findings computed from the CSVs)
-and `success.png` next to this script.
+drawer, door) and the grip sweep's, and writes `results/report.md` (findings computed from the CSVs)
+and `results/success.png`.
 Usage: python experiments/table2/report.py
 """
 
@@ -21,7 +21,7 @@ from realikea.eval.stats import wilson  # noqa: E402
 from realikea.sim.resistance import MODES  # noqa: E402
 from realikea.sim.resistance import mode as resistance_mode
 
-HERE = Path(__file__).resolve().parent
+RESULTS = Path(__file__).resolve().parent / "results"
 CATEGORIES = ("knob", "finger_pull", "two_point")
 KINDS = ("drawer", "door")
 FRICTION_BASED = ("heuristic_pull", "grasp_sampler")
@@ -32,16 +32,16 @@ def load(pattern: str) -> dict[str, list[dict]]:
     """folder path under this directory ("door/franka_hand_elliptic") -> rows of its table2.csv
     (numbers as floats)."""
     presets = {}
-    for path in sorted(HERE.glob(pattern), key=lambda p: (len(p.parent.name), p.parent.name)):
+    for path in sorted(RESULTS.glob(pattern), key=lambda p: (len(p.parent.name), p.parent.name)):
         with path.open() as f:
             rows = list(csv.DictReader(f))
         for row in rows:
             for key, value in row.items():
                 with contextlib.suppress(ValueError):
                     row[key] = float(value)
-        presets[path.parent.relative_to(HERE).as_posix()] = rows
+        presets[path.parent.relative_to(RESULTS).as_posix()] = rows
     if not presets:
-        raise SystemExit(f"no {pattern} under {HERE}: run experiments/table2/run.sh first")
+        raise SystemExit(f"no {pattern} under {RESULTS}: run experiments/table2/run.sh first")
     return presets
 
 
@@ -185,7 +185,7 @@ def main() -> None:
                             f"{c['peak_pull']:.1f} | {c['peak_slip_ratio']:.2f} | "
                             f"{c['normal_angle_deg']:.0f} |"
                         )
-    sweep = load("grip_sweep/*/table2.csv") if list(HERE.glob("grip_sweep/*/table2.csv")) else {}
+    sweep = load("grip_sweep/*/table2.csv") if list(RESULTS.glob("grip_sweep/*/table2.csv")) else {}
     if sweep:
         lines += [
             "",
@@ -209,8 +209,8 @@ def main() -> None:
                 cells.append(f"{ratio:.2f}" if ratio == ratio else "no pull")
             force = name.rsplit("_", 1)[-1].removesuffix("N")
             lines.append(f"| {force} N | " + " | ".join(cells) + " |")
-    plot(presets, HERE / "success.png")
-    (HERE / "report.md").write_text("\n".join(lines) + "\n")
+    plot(presets, RESULTS / "success.png")
+    (RESULTS / "report.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

@@ -56,7 +56,9 @@ def register(parser: argparse.ArgumentParser) -> None:
         ),
     )
     report.add_argument(
-        "--out", type=Path, help="output folder (default: experiments/fidelity in the repository)"
+        "--out",
+        type=Path,
+        help="output folder (default: experiments/fidelity/results in the repository)",
     )
     report.add_argument(
         "--samples",

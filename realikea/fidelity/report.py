@@ -45,7 +45,7 @@ from realikea.fidelity.summary import csv_text, headline_sentence, summary_markd
 from realikea.files import atomic_path, atomic_write_text, repo_path
 from realikea.spawn import process_map
 
-DEFAULT_OUT = "experiments/fidelity"
+DEFAULT_OUT = "experiments/fidelity/results"
 
 
 # --- the report ----------------------------------------------------------------------------------

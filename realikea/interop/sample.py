@@ -1,6 +1,6 @@
-"""The sample both cross-simulator checks pull (`experiments/interop/pybullet_parity.py` in PyBullet,
-`sapien_check.py` in SAPIEN): six configurations, two per kind and every category twice, built
-into a scratch library and exported to URDF and MJCF at each resistance mode."""
+"""The sample both cross-simulator checks pull (`experiments/interop/pybullet_parity.py` in
+PyBullet, `sapien_check.py` in SAPIEN): six configurations, two per kind and every category
+twice, built into a scratch library and exported to URDF and MJCF at each resistance mode."""
 
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ SAMPLE = (  # (part, base): two per kind, each category twice
     ("knob_round_30", "flap_w60_h40"),
     ("fp_cup_128", "flap_w60_h40"),
 )
-MODES = ("high", "smooth")
+SAMPLE_MODES = ("high", "smooth")
 MULTIPLES = (0.5, 1.2, 2.0)  # x the breakaway force; 1.2x is mid-travel after 1 s
 SOURCES = ("coacd", "hull")
 UNIT = {"slide": "m", "hinge": "rad"}  # of a front's opening
