@@ -1,7 +1,7 @@
 """What a fingertip can catch, read off a part's mesh (realikea/assets/catch_geometry.py).
 
-Reference: the formulas `hook_oracle` used to read from the catalog's dimension rows (copied
-here as `_catalog_reference`, since the policy no longer has them). Every catalog part is
+Reference: the catalog's dimension rows, through the formulas in `_catalog_reference` that
+read a catch off them. Every catalog part is
 compared on the generator's mesh (`part_mesh`, the build's visual.obj with the screw bores
 open; `test_built_visual_mesh_gives_the_same_features` checks the bores make no difference).
 

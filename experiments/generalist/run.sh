@@ -20,13 +20,12 @@ for name in coacd hull; do
   python "$HERE/evaluate.py" "$(ls "$HERE/$name"/model_*.pt | sort -V | tail -1)" "$name" \
     --episodes "$EPISODES"
 done
-# the CoACD run continued for 1,000 more iterations (session 7: 63 min beside two other runs)
+# the CoACD run continued for 1,000 more iterations (63 min beside two other runs)
 python train.py logger=none $APPENDIX train.resume=outputs/generalist/coacd_s0/model_1499.pt \
   agent.max_iterations=1000 hydra.run.dir=outputs/generalist/coacd_s0_cont
 python "$HERE/keep.py" outputs/generalist/coacd_s0_cont coacd_2500 --continues outputs/generalist/coacd_s0
 python "$HERE/evaluate.py" "$HERE/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
-# session 8: the same recipe with the appendix's w_open2 = 0, both sources (the CoACD run that
-# ran was outputs/generalist/coacd_s0, stopped at 667 in session 6 and resumed from model_650)
+# the same recipe with the appendix's w_open2 = 0, both sources
 python train.py logger=none $APPENDIX collision=hull task.reward.w_open2=0 \
   hydra.run.dir=outputs/generalist/hull_open2_0_s0 &
 python train.py logger=none $APPENDIX task.reward.w_open2=0 hydra.run.dir=outputs/generalist/coacd_open2_0_s0 &
