@@ -26,7 +26,7 @@ echo "environment: $(python3 -c 'import sys; print(sys.prefix)')"
 mkdir -p outputs && cp -al "$SOURCE/.cache" . && cp -al "$SOURCE/outputs/assets" outputs/
 step build realikea assets build --part tp_round_bar_128 --base drawer_w60_h20
 step train python3 train.py asset=two_point asset.kind=drawer agent.max_iterations=100 logger=none hydra.run.dir=outputs/quickstart
-step eval realikea eval policy=checkpoint policy.path=experiments/generalist/coacd/model_1499.pt asset=two_point asset.kind=flap episodes=4 video=true video_path=outputs/flap
+step eval realikea eval policy=checkpoint policy.path=experiments/generalist/results/coacd/model_1499.pt asset=two_point asset.kind=flap episodes=4 video=true video_path=outputs/flap
 ls outputs/flap_*.mp4
 # the viewer needs a display: here only its module and the model it would open are loaded
 step viewer python3 -c "import mujoco, mujoco.viewer; mujoco.MjModel.from_xml_path('outputs/assets/tp_round_bar_128__drawer_w60_h20/model_coacd.xml')"

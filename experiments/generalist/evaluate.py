@@ -6,8 +6,9 @@
 Every cell is evaluated with the eval defaults (collision=coacd: the faithful geometry, whatever
 the checkpoint was trained on) unless OVERRIDES say otherwise (e.g. collision=hull).
 
-Appends one JSON line per cell to experiments/generalist/NAME/cells.jsonl (cells already there
-are skipped, so an interrupted grid continues); `report.py` makes the tables from them.
+Appends one JSON line per cell to experiments/generalist/results/NAME/cells.jsonl (cells
+already there are skipped, so an interrupted grid continues); `report.py` makes the tables
+from them.
 """
 
 from __future__ import annotations
@@ -18,18 +19,19 @@ from pathlib import Path
 from realikea.reports.generalist import evaluate_grid
 
 HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("checkpoint", type=Path)
-    parser.add_argument("name", help="results folder under experiments/generalist/")
+    parser.add_argument("name", help="results folder under experiments/generalist/results/")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--seed", type=int, default=1000, help="env.seed of the draw")
     parser.add_argument("overrides", nargs="*", help="realikea eval overrides for every cell")
     args = parser.parse_args()
     evaluate_grid(
-        args.checkpoint, HERE / args.name / "cells.jsonl", args.episodes, args.seed,
+        args.checkpoint, RESULTS / args.name / "cells.jsonl", args.episodes, args.seed,
         extra=args.overrides,
     )  # fmt: skip
 

@@ -1,6 +1,6 @@
 """Keep what a finished generalist run needs to be evaluated and read: its last checkpoint
 (slimmed to the actor: realikea.policies.checkpoint.slim_checkpoint), its metrics.csv and its
-learning curve, in experiments/generalist/NAME/.
+learning curve, in experiments/generalist/results/NAME/.
 
     python experiments/generalist/keep.py RUN_DIR NAME [--continues EARLIER_RUN_DIR]
 
@@ -22,6 +22,7 @@ from realikea.policies.checkpoint import slim_checkpoint
 from realikea.training.metrics import join_launches
 
 HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
 
 
 def main() -> None:
@@ -31,7 +32,7 @@ def main() -> None:
     parser.add_argument("--continues", type=Path, help="the run this one was resumed from")
     args = parser.parse_args()
     last = checkpoints(args.run_dir)[-1][1]
-    out = HERE / args.name
+    out = RESULTS / args.name
     out.mkdir(parents=True, exist_ok=True)
     print(f"kept {slim_checkpoint(last, out / last.name)}")
     rows = (args.run_dir / "metrics.csv").read_text().splitlines()

@@ -1,4 +1,5 @@
-"""The generalist's tables from the grids `evaluate.py` wrote: experiments/generalist/table.md.
+"""The generalist's tables from the grids `evaluate.py` wrote:
+experiments/generalist/results/table.md.
 
     python experiments/generalist/report.py
 
@@ -22,6 +23,7 @@ from realikea.reports.generalist import (
 )
 
 HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
 
 
 GRIDS = {  # folder -> what was trained
@@ -55,7 +57,7 @@ def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> li
 
 
 def main() -> None:
-    grids = {name: read_cells(HERE / name / "cells.jsonl") for name in GRIDS}
+    grids = {name: read_cells(RESULTS / name / "cells.jsonl") for name in GRIDS}
     grids = {name: cells for name, cells in grids.items() if cells}
     lines = ["# The generalist on the held-out parts", ""]
     for name, cells in grids.items():
@@ -75,7 +77,7 @@ def main() -> None:
     for a, b, title, names in COMPARISONS:
         if a in grids and b in grids:
             lines += comparison_lines(grids[a], grids[b], title, names)
-    atomic_write_text(HERE / "table.md", "\n".join(lines))
+    atomic_write_text(RESULTS / "table.md", "\n".join(lines))
     print("\n".join(lines))
 
 

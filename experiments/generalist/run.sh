@@ -10,6 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
 HERE=experiments/generalist
+OUT=$HERE/results
 # the recipe these runs were trained with: the appendix reward (latched), every env in lockstep
 APPENDIX="task/reward=appendix agent.init_at_random_ep_len=false"
 python train.py logger=none $APPENDIX hydra.run.dir=outputs/generalist/coacd_s0 &
@@ -17,14 +18,14 @@ python train.py logger=none $APPENDIX collision=hull hydra.run.dir=outputs/gener
 wait
 for name in coacd hull; do
   python "$HERE/keep.py" "outputs/generalist/${name}_s0" "$name"
-  python "$HERE/evaluate.py" "$(ls "$HERE/$name"/model_*.pt | sort -V | tail -1)" "$name" \
+  python "$HERE/evaluate.py" "$(ls "$OUT/$name"/model_*.pt | sort -V | tail -1)" "$name" \
     --episodes "$EPISODES"
 done
 # the CoACD run continued for 1,000 more iterations (63 min beside two other runs)
 python train.py logger=none $APPENDIX train.resume=outputs/generalist/coacd_s0/model_1499.pt \
   agent.max_iterations=1000 hydra.run.dir=outputs/generalist/coacd_s0_cont
 python "$HERE/keep.py" outputs/generalist/coacd_s0_cont coacd_2500 --continues outputs/generalist/coacd_s0
-python "$HERE/evaluate.py" "$HERE/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
+python "$HERE/evaluate.py" "$OUT/coacd_2500/model_2498.pt" coacd_2500 --episodes "$EPISODES"
 # the same recipe with the appendix's w_open2 = 0, both sources
 python train.py logger=none $APPENDIX collision=hull task.reward.w_open2=0 \
   hydra.run.dir=outputs/generalist/hull_open2_0_s0 &
@@ -33,11 +34,11 @@ wait
 python "$HERE/keep.py" outputs/generalist/hull_open2_0_s0 hull_open2_0
 python "$HERE/keep.py" outputs/generalist/coacd_open2_0_s0 coacd_open2_0
 for name in hull_open2_0 coacd_open2_0; do
-  python "$HERE/evaluate.py" "$HERE/$name/model_1499.pt" "$name" --episodes "$EPISODES"
+  python "$HERE/evaluate.py" "$OUT/$name/model_1499.pt" "$name" --episodes "$EPISODES"
 done
-python experiments/tools/compare_curves.py --switch 900 --out "$HERE/open_jaw_bonus.png" \
+python experiments/tools/compare_curves.py --switch 900 --out "$OUT/open_jaw_bonus.png" \
   --title "generalist, seed 0: training success" \
-  "CoACD, w_open2 = 2=$HERE/coacd" "hull, w_open2 = 2=$HERE/hull" \
-  "CoACD, w_open2 = 0=$HERE/coacd_open2_0" "hull, w_open2 = 0=$HERE/hull_open2_0"
+  "CoACD, w_open2 = 2=$OUT/coacd" "hull, w_open2 = 2=$OUT/hull" \
+  "CoACD, w_open2 = 0=$OUT/coacd_open2_0" "hull, w_open2 = 0=$OUT/hull_open2_0"
 python "$HERE/report.py"
 bash "$HERE/frames.sh" coacd "door flap" 4

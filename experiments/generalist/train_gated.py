@@ -1,6 +1,6 @@
 """Train the generalists on the gated reward, two at a time, resumable, and keep each
-finished run in experiments/generalist/<recipe>/s<seed>/ (slim last checkpoint, metrics, the
-launches' wall times, the Hydra config).
+finished run in experiments/generalist/results/<recipe>/s<seed>/ (slim last checkpoint,
+metrics, the launches' wall times, the Hydra config).
 
     python experiments/generalist/train_gated.py                      # every run not yet kept
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
@@ -21,7 +21,7 @@ from pathlib import Path
 from realikea.files import WORKSPACE
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
-HERE = WORKSPACE / "experiments/generalist"
+RESULTS = WORKSPACE / "experiments/generalist/results"
 WORK = WORKSPACE / "outputs/generalist"
 ITERATIONS = 1500  # the defaults' agent.max_iterations
 RECIPES = {"default": [], "hull_high": ["collision=hull", "resistance=high"]}
@@ -36,7 +36,7 @@ def generalist_run(recipe: str, seed: int) -> QueuedRun:
 
 def kept_dir(run: QueuedRun) -> Path:
     recipe, seed = run.name.rsplit("_", 1)
-    return HERE / recipe / seed
+    return RESULTS / recipe / seed
 
 
 def last_checkpoint(run: QueuedRun) -> str:
