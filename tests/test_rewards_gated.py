@@ -118,6 +118,29 @@ def test_the_centre_term_pays_straddling_on_the_pads_line_and_never_outbids_a_gr
         GatedParams(w_center=6.0)  # beta = 10 < 5 + 6
 
 
+def test_the_stage_3_approach_pays_advancing_onto_t2_and_never_outbids_a_grasp_there():
+    """`w_app3` (0 in the default recipe): straddling jaws earn more the nearer the hand is to
+    the grasp target t2, and at every distance a grasp there earns more still."""
+    advancing = GatedParams(w_app3=2.0)
+
+    def reward(d2: float, engaged: bool = False, aperture: float = 0.0) -> tuple[int, float]:
+        v = StepValues(
+            3, 0.3, d2, aperture, 0.0, 0.0, True, engaged, [0.0] * 5, [0.0] * 5, [0.0] * 5, True,
+        )  # fmt: skip
+        v = dataclasses.replace(v, stage=next_stage(3, v, advancing))
+        return v.stage, sum(value for _, value in GATED.weighted_terms(v, advancing))
+
+    far, near = reward(0.02), reward(0.0)
+    assert far[0] == near[0] == 3
+    expected = advancing.scale * advancing.w_app3 * (math.log(0.02 + P.eps) - math.log(P.eps))
+    assert near[1] - far[1] == pytest.approx(expected)
+    for d2 in (0.0, 0.01, 0.02):
+        assert reward(d2, engaged=True, aperture=1.0)[1] > reward(d2)[1]
+    assert P.w_app3 == 0.0
+    with pytest.raises(RealIkeaError, match=r"w_app3=3.0 must be <= w_hold=2.0"):
+        GatedParams(w_app3=3.0)
+
+
 def test_pressing_the_closed_front_costs_in_proportion_up_to_push_force():
     """`w_push` (0 in the default recipe): a grasp pressed shut with 200 N pays less than
     straddling without pressing, so pressing cannot be a resting place."""

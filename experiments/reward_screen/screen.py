@@ -100,6 +100,12 @@ RECIPES = {
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "agent.min_std=0.4",
     ],
+    # gated_pull paying stage 3 the approach to t2 (w_app3 = w_hold): the knob runs that did not
+    # learn straddle the knob at one finger's tip, short of t2, where stage 3 paid nothing more
+    "gated_pull_app3": [
+        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+        "task.reward.success_bonus=60.0", "task.reward.w_app3=2.0",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -18,7 +18,10 @@ contribution active under mutually exclusive gating". Here, every step:
   `w_center` (0 by default) adds a term for the handle site's nearness to that line, meant to
   make the jaws close on the handle rather than beside it (at 5 it rescued neither of the two
   screen runs that ended straddling: it lifts stage 3's best to stage 4's baseline;
-  `experiments/reward_screen/README.md`);
+  `experiments/reward_screen/README.md`). `w_app3` (0 by default) pays stage 3 the approach
+  to the grasp target t2, at most `w_hold` so a grasp at the same place still pays more: in
+  the frames of a knob run that ended straddling, the knob sits at one finger's tip, inside
+  the straddle's radius but short of t2, and stage 3 pays nothing for advancing onto it;
 - stage 2: within tau1 of the pre-grasp target t1, or within `refine_radius` of t2;
 - stage 1 otherwise. A lost grasp returns the stage to the approach.
 
@@ -73,6 +76,7 @@ class GatedParams(StageParams):
     w_open2: float = 2.0
     w_close: float = 5.0
     w_center: float = 0.0
+    w_app3: float = 0.0
     w_hold: float = 2.0
     w_progress: float = 40.0
     success_bonus: float = 20.0
@@ -90,6 +94,11 @@ class GatedParams(StageParams):
                 f"task.reward: beta={self.beta} must be >= w_close + w_center = "
                 f"{self.w_close + self.w_center} (a grasp must pay at least what straddling the "
                 "handle with closed jaws does)"
+            )
+        if self.w_app3 > self.w_hold:
+            raise RealIkeaError(
+                f"task.reward: w_app3={self.w_app3} must be <= w_hold={self.w_hold} (at the same "
+                "place, a grasp must pay more than straddling the handle does)"
             )
 
     @cached_property
@@ -135,6 +144,11 @@ def center_term(v: StepValues, p: GatedParams) -> float:
     return max(1.0 - v.offset / p.straddle_radius, 0.0) if v.stage == 3 else 0.0
 
 
+def approach3_term(v: StepValues, p: GatedParams) -> float:
+    """Stage 3: the log approach to t2, so straddling jaws advance onto the grasp target."""
+    return approach(v.d2, 1.0, p.eps) if v.stage == 3 else 0.0
+
+
 def hold_term(v: StepValues, p: GatedParams) -> float:
     """Stage 4: the log approach to t2, so the hand stays at the handle while it pulls."""
     return approach(v.d2, 1.0, p.eps) if v.stage == 4 else 0.0
@@ -168,6 +182,7 @@ TERMS = {
     "approach": (approach_term, None),
     "close": (close_term, "w_close"),
     "center": (center_term, "w_center"),
+    "approach3": (approach3_term, "w_app3"),
     "hold": (hold_term, "w_hold"),
     "open": (open_term, "w_progress"),
     "success": (success_term, "success_bonus"),
