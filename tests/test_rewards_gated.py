@@ -141,6 +141,49 @@ def test_the_stage_3_approach_pays_advancing_onto_t2_and_never_outbids_a_grasp_t
         GatedParams(w_app3=3.0)
 
 
+def test_the_rate_term_pays_the_capped_openings_increase_where_the_opening_is_paid():
+    """`w_rate` (0 in the default recipe): a step pays the capped level's increase over it, only
+    where the opening is paid (stage 4, or after a grasp with keep_opening), so an episode's
+    sum is the capped opening made since, and closing the front costs what opening it paid."""
+    rated = GatedParams(w_rate=100.0, keep_opening=True)
+
+    def rate(stage: int, before: float, after: float, grasped: bool = True) -> float:
+        v = dataclasses.replace(
+            values(stage=stage, progress=after), prev_progress=before, grasped=grasped
+        )
+        return dict(GATED.weighted_terms(v, rated))["rate"]
+
+    assert rate(4, 0.2, 0.3) == pytest.approx(rated.scale * rated.w_rate * 0.1)
+    assert rate(4, 0.3, 0.2) == pytest.approx(-rated.scale * rated.w_rate * 0.1)
+    assert rate(4, 0.9, 1.4) == pytest.approx(rated.scale * rated.w_rate * 0.1)  # capped at 1
+    assert rate(2, 0.2, 0.3) == pytest.approx(rated.scale * rated.w_rate * 0.1)  # slipped
+    assert rate(2, 0.2, 0.3, grasped=False) == 0.0  # never grasped: nothing paid
+    assert dict(GATED.weighted_terms(values(stage=4, progress=0.5), P))["rate"] == 0.0
+
+
+def test_an_episodes_rate_sum_is_the_opening_it_made_while_paid(library):
+    """On the task: a pinch that opens the drawer earns, summed over the episode, the capped
+    opening made from its grasp on (the level before it, a few mm at most, is not paid)."""
+    cfg = load_config(
+        ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", "dr=fixed",
+         f"paths.library={library}", "policy=heuristic_pull", "task.reward.w_rate=100.0"],
+        "eval",
+    )  # fmt: skip
+    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
+    policy = make_policy(cfg)
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    for _ in range(task.horizon):
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            break
+    final = min(task.state.progress, 1.0)
+    assert final > 0.5  # the scripted pinch opened the drawer
+    paid = result.info["reward_terms"]["rate"] / (task.params.scale * 100.0)
+    assert final - 0.05 < paid <= final + 1e-9
+
+
 def test_pressing_the_closed_front_costs_in_proportion_up_to_push_force():
     """`w_push` (0 in the default recipe): a grasp pressed shut with 200 N pays less than
     straddling without pressing, so pressing cannot be a resting place."""

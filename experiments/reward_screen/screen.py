@@ -106,6 +106,14 @@ RECIPES = {
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "task.reward.w_app3=2.0",
     ],
+    # gated_pull paying the opening's increase as well as its level (w_rate = 10 x w_progress:
+    # a step's pull is paid at once what the level pays for it over the next 10 steps): its knob
+    # runs that did not learn held grasps that open the drawer when made to pull, yet pulled
+    # slowly (forced_pull.py)
+    "gated_pull_rate": [
+        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+        "task.reward.success_bonus=60.0", "task.reward.w_rate=1200.0",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",

@@ -72,6 +72,7 @@ class EpisodeState:
     stage: int = 1
     steps: int = 0
     grasped: bool = False  # the stage has been 4 at some step of the episode
+    progress: float = 0.0  # opening / success threshold after the last step (or the reset)
     prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
@@ -218,7 +219,7 @@ class OpenTask:
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
-            grip.offset, push, excess=self._excess,
+            grip.offset, push, excess=self._excess, prev_progress=s.progress,
         )  # fmt: skip
 
     def _handle_jacobian(self) -> np.ndarray:
@@ -310,6 +311,7 @@ class OpenTask:
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)
+        self.state.progress = values.progress
         return self.observe()
 
     def apply_action(self, action) -> bool:
@@ -396,6 +398,7 @@ class OpenTask:
         commanded = math.sqrt(command.dot(command)) > term.stagnation_command
         s.stagnant = s.stagnant + 1 if commanded and moved < term.stagnation_motion else 0
         s.prev_prev_action, s.prev_action = s.prev_action, a
+        s.progress = values.progress
         if diverged:
             reward = 0.0
         ended = termination(s, term, diverged)

@@ -41,6 +41,12 @@ With `keep_opening` (off by default) the opening and its bonus are paid in every
 episode has been in stage 4: pulled hard, a pinch that slips on the way out keeps the opening it
 made (`experiments/reward_screen/README.md`).
 
+`w_rate` (0 by default) pays, where the opening is paid, its increase over the step (a
+difference of the capped level, so over an episode it sums to the final opening and closing
+the front again costs what opening it paid): the level pays a pull only through the steps
+after it, and the screen's knob runs that did not learn held grasps that open the drawer when
+made to pull, yet pulled slowly (`experiments/reward_screen/README.md`).
+
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
@@ -79,6 +85,7 @@ class GatedParams(StageParams):
     w_app3: float = 0.0
     w_hold: float = 2.0
     w_progress: float = 40.0
+    w_rate: float = 0.0
     success_bonus: float = 20.0
     refine_radius: float = 0.11
     straddle_radius: float = 0.025
@@ -166,6 +173,13 @@ def open_term(v: StepValues, p: GatedParams) -> float:
     return min(max(v.progress, 0.0), 1.0) if credits_opening(v, p) else 0.0
 
 
+def rate_term(v: StepValues, p: GatedParams) -> float:
+    """The capped opening's increase over the step, where the opening is paid."""
+    if not credits_opening(v, p):
+        return 0.0
+    return min(max(v.progress, 0.0), 1.0) - min(max(v.prev_progress, 0.0), 1.0)
+
+
 def success_term(v: StepValues, p: GatedParams) -> float:
     """1 once the opening reaches the success threshold."""
     return 1.0 if credits_opening(v, p) and v.progress >= 1.0 else 0.0
@@ -185,6 +199,7 @@ TERMS = {
     "approach3": (approach3_term, "w_app3"),
     "hold": (hold_term, "w_hold"),
     "open": (open_term, "w_progress"),
+    "rate": (rate_term, "w_rate"),
     "success": (success_term, "success_bonus"),
     "push": (push_term, "w_push"),
     "bound": (bound_term, "w_bound"),

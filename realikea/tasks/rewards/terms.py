@@ -60,6 +60,7 @@ class StepValues:
     push: float = 0.0  # N at the handle: the force pressing the front against its closed stop
     grasped: bool = False  # the stage has been 4 at some step of the episode, this one included
     excess: float = 0.0  # sum of (|a_i| - 1)^2 over the policy's action beyond the clip to [-1, 1]
+    prev_progress: float = 0.0  # progress after the previous step (or the reset)
 
 
 def approach(d: float, weight: float, eps: float) -> float:
