@@ -114,6 +114,12 @@ RECIPES = {
         "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "task.reward.w_rate=1200.0",
     ],
+    # gated_pull_rate with w_app3 = w_hold: its CoACD knob s4 run ended straddling the knob
+    # (stage 3 in 0.65 of its last episodes), the pattern w_app3 was built for
+    "gated_pull_rate_app3": [
+        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+        "task.reward.success_bonus=60.0", "task.reward.w_rate=1200.0", "task.reward.w_app3=2.0",
+    ],
 }  # fmt: skip
 COMMON = [
     "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",
