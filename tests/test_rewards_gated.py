@@ -164,23 +164,13 @@ def test_the_rate_term_pays_the_capped_openings_increase_where_the_opening_is_pa
 def test_an_episodes_rate_sum_is_the_opening_it_made_while_paid(library):
     """On the task: a pinch that opens the drawer earns, summed over the episode, the capped
     opening made from its grasp on (the level before it, a few mm at most, is not paid)."""
-    cfg = load_config(
-        ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", "dr=fixed",
-         f"paths.library={library}", "policy=heuristic_pull", "task.reward.w_rate=100.0"],
-        "eval",
+    steps = _episode(
+        library, "tp_round_bar_128", "heuristic_pull", "policy=heuristic_pull",
+        "task.reward.w_rate=100.0",
     )  # fmt: skip
-    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
-    policy = make_policy(cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    for _ in range(task.horizon):
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
-        if result.terminated or result.truncated:
-            break
-    final = min(task.state.progress, 1.0)
+    final = min(steps[-1]["progress"], 1.0)
     assert final > 0.5  # the scripted pinch opened the drawer
-    paid = result.info["reward_terms"]["rate"] / (task.params.scale * 100.0)
+    paid = steps[-1]["terms"]["rate"] / (P.scale * 100.0)
     assert final - 0.05 < paid <= final + 1e-9
 
 
@@ -284,8 +274,9 @@ class ClosedPoke(WaypointPolicy):
 
 
 def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
-    """Per step: the stage, the aperture, the opening and the force pressing the front shut
-    of one episode of `policy`."""
+    """Per step: the stage, the aperture, the opening (also as progress), the force pressing
+    the front shut and, at the episode's end, each reward term's sum, of one episode of
+    `policy`."""
     cfg = load_config(
         [f"asset.part={part}", "asset.base=drawer_w60_h20", "dr=fixed", f"paths.library={library}",
          *overrides],
@@ -304,7 +295,9 @@ def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
                 "stage": result.info["stage"],
                 "aperture": task.aperture,
                 "open": task.opening,
+                "progress": task.state.progress,
                 "push": task.pressing_force(),
+                "terms": result.info.get("reward_terms"),
             }
         )
         if result.terminated or result.truncated:

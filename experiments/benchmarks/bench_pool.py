@@ -360,6 +360,10 @@ class Measured:
         return cls(**data)
 
 
+PHYSICS_PART = "physics: decimation x mj_step (OpenTask.simulate)"
+BOOKKEEPING_PART = "pool bookkeeping (checks, shared-memory writes, episode records)"
+
+
 def breakdown(seconds: dict, busy: float, env_steps: int) -> list[tuple[str, float]]:
     """ms per env-step by part of the task, and the rest of the pool's step (in-process)."""
     ms = {k: v / env_steps * 1e3 for k, v in seconds.items()}
@@ -367,12 +371,12 @@ def breakdown(seconds: dict, busy: float, env_steps: int) -> list[tuple[str, flo
     rows = [
         ("IK: mink's QP (built in place, one daqp solve) + its checks", ms["ik"]),
         ("action mapping around the IK (OpenTask.apply_action)", ms["apply"] - ms["ik"]),
-        ("physics: decimation x mj_step (OpenTask.simulate)", ms["simulate"]),
+        (PHYSICS_PART, ms["simulate"]),
         ("observation (OpenTask.observe, incl. at resets)", ms["observe"]),
         ("reward, terminations, info (rest of OpenTask.evaluate)", ms["evaluate"] - ms["observe"]),
         ("resets (OpenTask.reset, its observation included)", ms["reset"]),
         (
-            "pool bookkeeping (checks, shared-memory writes, episode records)",
+            BOOKKEEPING_PART,
             ms["busy"] - ms["apply"] - ms["simulate"] - ms["evaluate"] - ms["reset"],
         ),
     ]
@@ -562,8 +566,8 @@ def render(m: Measured) -> str:
             f"- AsyncVectorEnv / physics limit: {r.vec / r.limit:.2f}.",
         ]
     busy = sum(v for _, v in m.parts)
-    physics = dict(m.parts)["physics: decimation x mj_step (OpenTask.simulate)"]
-    bookkeeping = m.parts[-1][1]
+    by_part = dict(m.parts)
+    physics, bookkeeping = by_part[PHYSICS_PART], by_part[BOOKKEEPING_PART]
     share, transfer = physics / busy, m.transfer_ms / m.wall_ms
     own = bookkeeping / busy + transfer
     mj_step_us = physics / m.decimation * 1e3

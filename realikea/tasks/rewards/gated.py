@@ -168,16 +168,21 @@ def credits_opening(v: StepValues, p: GatedParams) -> bool:
     return v.stage == 4 or (p.keep_opening and v.grasped)
 
 
+def capped(progress: float) -> float:
+    """Opening / success threshold, clipped to [0, 1]."""
+    return min(max(progress, 0.0), 1.0)
+
+
 def open_term(v: StepValues, p: GatedParams) -> float:
     """Opening / success threshold, capped at 1: linear, no resting place short of it."""
-    return min(max(v.progress, 0.0), 1.0) if credits_opening(v, p) else 0.0
+    return capped(v.progress) if credits_opening(v, p) else 0.0
 
 
 def rate_term(v: StepValues, p: GatedParams) -> float:
     """The capped opening's increase over the step, where the opening is paid."""
     if not credits_opening(v, p):
         return 0.0
-    return min(max(v.progress, 0.0), 1.0) - min(max(v.prev_progress, 0.0), 1.0)
+    return capped(v.progress) - capped(v.prev_progress)
 
 
 def success_term(v: StepValues, p: GatedParams) -> float:
