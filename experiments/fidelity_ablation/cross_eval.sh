@@ -2,13 +2,13 @@
 # Robustness of the learned strategies: the two-point policies trained with franka_hand
 # (elliptic, high resistance; CoACD vs hull) evaluated in high resistance with a drive or cone
 # under which friction can slip, one pair per training seed. Writes
-# experiments/fidelity_ablation/cross_eval.md.
+# experiments/fidelity_ablation/results/cross_eval.md.
 # Usage: bash experiments/fidelity_ablation/cross_eval.sh [EPISODES] [SEEDS]   (SEEDS: "0 2 3")
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
 SEEDS="${2:-0}"
-OUT=experiments/fidelity_ablation/cross_eval.md
+OUT=experiments/fidelity_ablation/results/cross_eval.md
 TMP="$(mktemp)"
 trap 'rm -f "$TMP"' EXIT
 {
@@ -28,7 +28,7 @@ for seed in $SEEDS; do
   for collision in coacd hull; do
     for preset in "contact=elliptic" "contact=pyramidal" "gripper.grasp_force=10" "gripper=menagerie_servo"; do
       line=$(realikea eval policy=checkpoint \
-        policy.path="experiments/fidelity_ablation/runs/${collision}_high_two_point_franka_hand_s${seed}/model_499.pt" \
+        policy.path="experiments/fidelity_ablation/results/runs/${collision}_high_two_point_franka_hand_s${seed}/model_499.pt" \
         asset=two_point asset.kind=drawer asset.split=all scene=freestanding \
         collision="$collision" resistance=high dr=randomized env.seed=1000 episodes="$EPISODES" $preset 2>/dev/null | tail -1)
       python - "$collision" "$seed" "$preset" "$line" >> "$TMP" <<'PY'

@@ -31,7 +31,7 @@ def read_rows(path: Path) -> dict[tuple[str, str, str], float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("table", nargs="?", type=Path, default=HERE / "cross_eval.md")
+    parser.add_argument("table", nargs="?", type=Path, default=HERE / "results" / "cross_eval.md")
     parser.add_argument("--episodes", type=int, default=50, help="episodes per row")
     args = parser.parse_args()
     n = args.episodes

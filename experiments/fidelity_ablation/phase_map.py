@@ -38,7 +38,7 @@ from realikea.reports.phase_map import (
 )
 
 HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "phase_map" / "cells.jsonl"
+RESULTS = HERE / "results" / "phase_map" / "cells.jsonl"
 # where each default axis value comes from (datasheets and handbook tables)
 SOURCES = HERE / "phase_map_axes.md"
 

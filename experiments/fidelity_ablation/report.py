@@ -6,7 +6,7 @@ python experiments/fidelity_ablation/report.py [ROOT ...] [--out DIR] [--record-
 
 ROOT defaults to outputs/fidelity_ablation (all sweeps in it); runs are found at any depth.
 Cells are (collision source, training resistance, category) per gripper/contact preset;
-seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation),
+seeds of a cell are averaged. Writes DIR/report.md (default experiments/fidelity_ablation/results),
 success.png, outcomes.png, strategies.png and learning_curves.png. `--record-videos` does
 what `realikea eval ... video=true episodes=N` does once per run not yet recorded (under its
 training resistance, N = --video-episodes, 8), which writes the first MP4 (and a PNG strip of four
@@ -15,7 +15,7 @@ finds and names the MP4 beside it. Each `--phase-maps` directory (written by pha
 its heat maps and CoACD − hull differences. The committed report:
 
     python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/grid \
-        --phase-maps experiments/fidelity_ablation/phase_map{,_paper,_paper_s1,_paper_s2}
+        --phase-maps experiments/fidelity_ablation/results/phase_map{,_paper,_paper_s1,_paper_s2}
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from realikea.reports.fidelity_ablation.report import report
 from realikea.reports.fidelity_ablation.runs import find_runs
 from realikea.reports.fidelity_ablation.videos import record_videos
 
-DEFAULT_OUT = "experiments/fidelity_ablation"  # the committed report, beside this script
+DEFAULT_OUT = "experiments/fidelity_ablation/results"  # the committed report
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -27,7 +27,7 @@ from realikea.policies.registry import POLICIES
 from realikea.reports.multiplicity import Difference
 from realikea.sim.resistance import mode
 
-# the axes' default values; their sources are in experiments/fidelity_ablation/phase_map.md
+# the axes' default values; their sources are in experiments/fidelity_ablation/phase_map_axes.md
 FORCES = (5.0, 10.0, 20.0, 40.0, 70.0)  # N per jaw
 FRICTIONS = (0.3, 0.5, 0.7, 1.0)  # pad on the part
 CONES = ("elliptic", "pyramidal")

@@ -123,8 +123,8 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
         "",
         "Fraction of all episodes that failed (fail or partial) in each mode "
         "(realikea/tasks/failure_modes.py; validated in "
-        "experiments/fidelity_ablation/failure_modes.md), mean over seeds [95 % interval, as "
-        "for the success]; the means add up to 1 − success.",
+        "experiments/fidelity_ablation/results/failure_modes.md), mean over seeds [95 % "
+        "interval, as for the success]; the means add up to 1 − success.",
         "",
         "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
         "|---|---|---|" + "---|" * len(FAILURE_MODES),
