@@ -1,6 +1,7 @@
 """The policies' action spread and where their episodes ended, run by run: the kept screen runs
-(experiments/reward_screen/runs/) and the rescue runs stopped for time before 400 iterations
-(experiments/reward_screen/stopped/, their metrics and Hydra overrides copied from outputs/).
+(experiments/reward_screen/results/runs/) and the rescue runs stopped for time before 400
+iterations (experiments/reward_screen/results/stopped/, their metrics and Hydra overrides copied
+from outputs/).
 Prints a markdown table.
 
     python experiments/reward_screen/exploration.py
@@ -16,7 +17,7 @@ from realikea.files import WORKSPACE
 from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
 from realikea.training.metrics import read_metrics
 
-FOLDERS = [WORKSPACE / "experiments/reward_screen" / name for name in ("runs", "stopped")]
+FOLDERS = [WORKSPACE / "experiments/reward_screen/results" / name for name in ("runs", "stopped")]
 AT = (20, 60, 120)  # iterations at which the spread is shown
 
 

@@ -1,7 +1,7 @@
 """The screen's runs trained past 400 iterations (exploratory, not part of the screen): where each
 passed 50 % training success (as `report.py` counts it: the first iteration of the window), and
 its success, opening and stage-4 share over its last 20 iterations. Reads
-experiments/reward_screen/extended/NAME/metrics.csv; prints a markdown table.
+experiments/reward_screen/results/extended/NAME/metrics.csv; prints a markdown table.
 
     python experiments/reward_screen/extended.py
 """
@@ -16,7 +16,7 @@ from realikea.reports.fidelity_ablation.runs import (
 )
 from realikea.training.metrics import read_metrics
 
-EXTENDED = WORKSPACE / "experiments/reward_screen/extended"
+EXTENDED = WORKSPACE / "experiments/reward_screen/results/extended"
 
 
 def main() -> int:

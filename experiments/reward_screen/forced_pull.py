@@ -18,7 +18,7 @@ from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.tasks.open_task import OpenTask
 
-RUNS = WORKSPACE / "experiments/reward_screen/runs"
+RUNS = WORKSPACE / "experiments/reward_screen/results/runs"
 CONFIGURATIONS = 3
 FROM = 35  # step from which the pull is forced (the kept policies grasp by step 20-30)
 PULLS = (None, 0.5, 1.0)  # None: the policy's own command; else the command along the opening
@@ -43,7 +43,9 @@ def episode(task: OpenTask, policy, pull: float | None) -> tuple[float, int, int
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run", help="a kept run's name (experiments/reward_screen/runs/NAME)")
+    parser.add_argument(
+        "run", help="a kept run's name (experiments/reward_screen/results/runs/NAME)"
+    )
     args = parser.parse_args()
     folder = RUNS / args.run
     try:

@@ -24,7 +24,7 @@ from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.tasks.open_task import OpenTask
 
-RUNS = WORKSPACE / "experiments/reward_screen/runs"
+RUNS = WORKSPACE / "experiments/reward_screen/results/runs"
 EPISODES = 6  # configurations of the run's cell, one episode each
 APPROACH = 20  # steps left out at the start of an episode
 PRESSING = 50.0  # N: a step presses the closed front above this

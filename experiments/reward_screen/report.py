@@ -4,7 +4,7 @@ at which iteration, and the reward stage the others ended their episodes in.
 
     python experiments/reward_screen/report.py [--runs DIR] [--out DIR]
 
-Writes OUT/table.md and OUT/learning_curves.png (OUT defaults to experiments/reward_screen).
+Writes OUT/table.md and OUT/learning_curves.png (OUT defaults to experiments/reward_screen/results).
 "Learned": the training success, averaged over 20 iterations from some iteration on, reached
 0.5 (`iterations_to_success`, as the fidelity grid's report counts it). End stage: the share of
 episodes ending in each stage over the last 20 iterations (`/end_stage/<k>`).
@@ -146,9 +146,9 @@ def plot(runs: list[dict], path: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    here = WORKSPACE / "experiments/reward_screen"
-    parser.add_argument("--runs", type=Path, default=here / "runs")
-    parser.add_argument("--out", type=Path, default=here)
+    results = WORKSPACE / "experiments/reward_screen/results"
+    parser.add_argument("--runs", type=Path, default=results / "runs")
+    parser.add_argument("--out", type=Path, default=results)
     args = parser.parse_args()
     if not args.runs.is_dir():
         parser.error(f"--runs {args.runs}: no such folder (run screen.py first)")

@@ -1,6 +1,7 @@
 """The reward screen: train each recipe on the cells where the appendix recipe died,
 with both collision sources and several seeds, two runs at a time; keep each finished run in
-experiments/reward_screen/runs/NAME/ (its Hydra config, metrics, slim last checkpoint, wall time).
+experiments/reward_screen/results/runs/NAME/ (its Hydra config, metrics, slim last checkpoint,
+wall time).
 
     python experiments/reward_screen/screen.py                  # every run not yet kept
     python experiments/reward_screen/screen.py --recipes gated --cells knob_smooth --seeds 0 1
@@ -28,7 +29,7 @@ from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mea
 from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
-KEPT = WORKSPACE / "experiments/reward_screen/runs"
+KEPT = WORKSPACE / "experiments/reward_screen/results/runs"
 WORK = WORKSPACE / "outputs/reward_screen"
 ITERATIONS = 400
 SWITCH = 200  # fixed poses before this iteration, randomized from it

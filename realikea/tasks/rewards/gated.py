@@ -29,13 +29,13 @@ Every stage, `w_push` (0 by default) costs pressing the closed front shut, in pr
 force its closed stop holds at the handle (`OpenTask.pressing_force`), capped at `push_force`:
 the policies of the screen's runs that did not learn press it with over 50 N on 0.60-0.97 of
 their steps (median 163-224 N), those that learned on at most 0.08
-(`experiments/reward_screen/pressing.md`). Measured on two such seeds, it stops the pressing but
-not the trap: they then hold the grasp without pulling.
+(`experiments/reward_screen/results/pressing.md`). Measured on two such seeds, it stops the
+pressing but not the trap: they then hold the grasp without pulling.
 
 `w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1]: a mean far past
 the clip explores nothing on that component. Measured, it does harm: costing the sampled action
 also costs its spread (action std 0.23-0.26 at iteration 120 against 0.45-0.77 without it,
-`experiments/reward_screen/exploration.md`); kept so the screen's runs with it reproduce.
+`experiments/reward_screen/results/exploration.md`); kept so the screen's runs with it reproduce.
 
 With `keep_opening` (off by default) the opening and its bonus are paid in every stage once the
 episode has been in stage 4: pulled hard, a pinch that slips on the way out keeps the opening it
