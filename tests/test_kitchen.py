@@ -142,3 +142,28 @@ def test_both_wide_doors_open_past_success_with_a_pinch(tmp_path, base):
         if result.terminated or result.truncated:
             break
     assert result.info["outcome"] == "success", (result.info["termination"], task.opening)
+
+
+@pytest.mark.parametrize("base", ["door_left_w40_h80", "door_right_w40_h80"])
+def test_hook_oracle_levers_a_door_knob_from_the_hinge_side(tmp_path, base):
+    """On a door the knob's wedge comes from the hinge's side with the jaws straddling the head,
+    and the wrist follows the door's whole turn: the door opens in high resistance by a lever.
+    With the drawer's pitch both jaws pass the head on one side; with the wrist following 0.3
+    of the turn the head turns off the pad."""
+    cfg = load_config(
+        ["asset.part=knob_mushroom_38", f"asset.base={base}", "dr=randomized",
+         "policy=hook_oracle", "resistance=high", "contacts.log=true", f"paths.library={tmp_path}"],
+        "eval",
+    )  # fmt: skip
+    policy = make_policy(cfg)
+    for seed in (0, 1):
+        task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
+        obs = task.reset()
+        policy.reset([0], [task.facts()])
+        for _ in range(task.horizon):
+            result = task.step(policy.act(obs[None])[0])
+            obs = result.obs
+            if result.terminated or result.truncated:
+                break
+        assert result.info["outcome"] == "success", (seed, result.info["termination"])
+        assert result.info["strategy"] == "lever", (seed, result.info["strategy"])

@@ -15,12 +15,14 @@ Two ways of catching the part, chosen by its category:
   around the bar with the bodies clear of it and the pads' back faces behind it: pulling loads
   the bar with the pads' normal force along the opening direction, whatever the squeeze. A bar
   taller than the bodies' clearance gets a partial closure (the bodies still clear the bar).
-* **wedge** (knobs from above, finger-pull lips from below): the hand is pitched so one finger
-  leads; that finger's pad slides along its own inner face past the feature's edge (the back
-  rim of a knob's head, the inner bottom edge of a lip) into the space behind it, then pulls.
-  The inclined inner face pushes the edge out along the opening direction and across it
-  (down on a knob, up on a lip), the front's joint and the stiff arm taking the cross
-  component: the normal force carries the pull. The other jaw stays wide open, clear of it all.
+* **wedge** (knobs from above, or from the hinge's side on doors; finger-pull lips from
+  below): the hand is pitched so one finger leads; that finger's pad slides along its own
+  inner face past the feature's edge (the back rim of a knob's head, the inner bottom edge of a
+  lip) into the space behind it, then pulls. The inclined inner face pushes the edge out along
+  the opening direction and across it (towards the knob's axis, up on a lip), the front's
+  joint and the stiff arm taking the cross component: the normal force carries the pull. The
+  other jaw stays wide open, clear of it all. On doors the wrist follows the door's whole turn
+  (`door_pull_wrist`), so the head does not turn off the pad.
 
 A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
 a gap behind it; a pull without a channel) gets no plan: the hand holds still with the gripper
@@ -60,8 +62,9 @@ class OracleParams:
     standoff: float = 0.04  # m in front of the part where the approach starts
     pull_distance: float = 0.4  # m of the pull along a drawer's opening direction
     pull_angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)
-    pull_wrist: float = 0.3  # share of a hinged front's turn the wrist follows
-    wedge_pitch: float = 0.55  # rad the hand is tipped down for a knob's wedge
+    pull_wrist: float = 0.3  # share of a flap's turn the wrist follows
+    door_pull_wrist: float = 1.0  # share of a door's turn the wrist follows
+    wedge_pitch: float = 0.55  # rad the hand is tipped towards a knob's head for its wedge
     lip_pitch: float = 0.25  # rad tipped up for a lip's wedge
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
     wedge_preload: float = 0.001  # m the pad's face is set into the edge before the pull
@@ -87,6 +90,16 @@ def _features(facts: SceneFacts) -> dict:
     if isinstance(found, NoCatch):
         raise NoPlan(found.reason)
     return asdict(found)
+
+
+def _knob_side(facts: SceneFacts) -> float:
+    """The part-frame y side (+1 or -1) a knob's wedge comes from: above on drawers and flaps,
+    the hinge's side on doors (measured on `knob_mushroom_38`, `door_left_w40_h80`: from the
+    hinge's side the door opened 0.89 rad with the wrist following the turn, from the other
+    side the wrist ran joint 6 into its limit and the door stayed shut)."""
+    if facts.base_kind != "door":
+        return 1.0
+    return 1.0 if facts.to_part(facts.hinge_anchor)[1] > 0 else -1.0
 
 
 class HookOracle(WaypointPolicy):
@@ -130,14 +143,20 @@ class HookOracle(WaypointPolicy):
         """Lead with one pad whose inner face lies on the feature's edge, tip behind it."""
         p, f = self.params, _features(facts)
         knob = facts.category == "knob"
-        pitch = -p.wedge_pitch if knob else p.lip_pitch  # from above on knobs, below on lips
+        side = _knob_side(facts) if knob else 1.0
+        pitch = -p.wedge_pitch if knob else p.lip_pitch  # down on drawers' knobs, up on lips
         a, j = self._axes(facts, pitch)
+        if knob and a[1] * side > 0:
+            # the hand must slide in towards the knob's axis from the side it comes from, so
+            # that the jaws straddle the head; on a door the hand's roll flips the tip's sense
+            pitch = -pitch
+            a, j = self._axes(facts, pitch)
         sign = 1.0 if j[2] < 0 else -1.0  # the finger that leads (further towards the front)
         normal = -sign * j  # its inner face's normal, towards the other jaw
         if knob:
-            edge = np.array([0.0, f["radius"], f["back"]])
-            floor_y = f["neck"]  # the face must pass above the neck
-            room_y = (edge[1] - floor_y - p.clearance) / max(abs(a[1]), 1e-6)
+            edge = np.array([0.0, side * f["radius"], f["back"]])
+            # the face must pass outside the neck
+            room_y = (f["radius"] - f["neck"] - p.clearance) / max(abs(a[1]), 1e-6)
         else:
             edge = np.array([0.0, f["edge_y"], f["edge_z"]])
             room_y = (f["top"] - edge[1] - p.clearance) / max(abs(a[1]), 1e-6)
@@ -157,6 +176,7 @@ class HookOracle(WaypointPolicy):
     # --- the plan ---------------------------------------------------------------------------
     def plan(self, facts: SceneFacts) -> list[Waypoint]:
         p, c = self.params, self.catch(facts)
+        wrist = p.door_pull_wrist if facts.base_kind == "door" else p.pull_wrist
         world = facts.to_world
         at = world(c.tcp)
         if c.mode == "loop":
@@ -183,7 +203,5 @@ class HookOracle(WaypointPolicy):
             ]
         return [
             *steps,
-            *follow(
-                Pull(p.pull_distance, p.pull_angle, p.pull_wrist).path(at, facts), c.pitch, c.grip
-            ),
+            *follow(Pull(p.pull_distance, p.pull_angle, wrist).path(at, facts), c.pitch, c.grip),
         ]

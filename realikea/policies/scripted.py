@@ -141,8 +141,8 @@ def opening_path(
     `angle` (rad) on a door or flap (a straight pull along the first tangent leaves the handle's
     path). The hinge axis of a flap, and of a door for the rolled hand, is the hand's pitch axis:
     the wrist turns by `wrist` times the front's turn, so the front does not turn into the
-    fingers (a flap held level stalls at 43 deg) while the Panda's wrist joints 5 and 6 keep
-    range (following fully runs them into their limits on doors before 45 deg)."""
+    fingers (a flap held level stalls at 43 deg); each policy sets the share per kind within
+    the Panda's wrist joints 5 and 6 (`hook_oracle`: 0.3 on flaps, 1.0 on doors)."""
     if facts.joint_type == "slide":
         return [(grasp + distance * facts.pull_dir, 0.0)]
     axis = facts.hinge_axis / np.linalg.norm(facts.hinge_axis)
