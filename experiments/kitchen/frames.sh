@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 EPISODES="${1:-4}"
-for cell in "finger_pull drawer" "knob door" "two_point door"; do
+for cell in "finger_pull drawer" "knob door"; do
   read -r category kind <<< "$cell"
   realikea eval policy=hook_oracle asset="$category" asset.kind="$kind" asset.split=test \
     resistance=high dr=randomized scene=kitchen gripper=franka_hand contact=elliptic \
