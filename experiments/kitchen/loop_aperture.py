@@ -1,0 +1,71 @@
+"""`hook_oracle`'s loop on each two-point test part, for one gripper preset: whether it opens the
+drawer, and the jaws' opening (fraction of the stroke) at the end of the close and one step into
+the pull. A jump between the two is the bar pushing the jaws apart. Prints a markdown table.
+
+    python experiments/kitchen/loop_aperture.py --gripper menagerie_servo --contact pyramidal
+
+Kitchen, high resistance, randomized poses (draws `--seeds`), two drawer bases.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from realikea.assets.catalog import Catalog
+from realikea.assets.library import training_configurations
+from realikea.config import load_config
+from realikea.policies.registry import make_policy
+from realikea.tasks.open_task import OpenTask
+
+CLOSE, PULL = 3, 4  # the loop's waypoints: closing on the bar, the first of the pull
+
+
+def loop_episode(cfg, seed: int) -> tuple[str, float, float]:
+    """One episode: its outcome and the aperture at the end of the close and at the pull's
+    first step."""
+    task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
+    policy = make_policy(cfg)
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    closed = pulled = float("nan")
+    for _ in range(task.horizon):
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        phase = policy.phase[0]
+        if phase == CLOSE:
+            closed = task.aperture
+        elif phase >= PULL and math.isnan(pulled):  # the first step of the pull
+            pulled = task.aperture
+        if result.terminated or result.truncated:
+            return result.info["outcome"], closed, pulled
+    raise AssertionError("an episode ends by its horizon")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--gripper", default="franka_hand")
+    parser.add_argument("--contact", default="elliptic")
+    parser.add_argument("--bases", nargs="+", default=["drawer_w40_h20", "drawer_w80_h40"])
+    parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
+    args = parser.parse_args()
+    catalog = Catalog.load()
+    parts = catalog.parts_of_split(catalog.parts_in("two_point"), "test")
+    print(f"`{args.gripper}` / {args.contact}, high, kitchen, seeds {args.seeds}\n")
+    print("| part | base | seed | outcome | aperture closed | aperture pulling |")
+    print("|---|---|---:|---|---:|---:|")
+    for part in parts:
+        for base in args.bases:
+            cfg = load_config(
+                [f"asset.part={part.id}", f"asset.base={base}", "dr=randomized",
+                 "policy=hook_oracle", "resistance=high", "scene=kitchen",
+                 f"gripper={args.gripper}", f"contact={args.contact}"],
+                "eval",
+            )  # fmt: skip
+            for seed in args.seeds:
+                outcome, closed, pulled = loop_episode(cfg, seed)
+                print(f"| {part.id} | {base} | {seed} | {outcome} | {closed:.3f} | {pulled:.3f} |")
+
+
+if __name__ == "__main__":
+    main()
