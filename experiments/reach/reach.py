@@ -1,6 +1,6 @@
 """Reach study: the TCP pitch range the Panda's joint limits allow at a handle, by height and
-distance from the arm's base, for the level hand (drawers, flap), the hand rolled 90 deg
-(doors) and the hand upside down (rolled 180 deg: its wrist pitches up through joint 6's range). The numbers behind the kitchen's robot placement (realikea/conf/scene/kitchen.yaml:
+distance from the arm's base, for the level hand (drawers, flap) and the hand rolled 90 deg
+(doors). The numbers behind the kitchen's robot placement (realikea/conf/scene/kitchen.yaml:
 robot) and the hand's roll choice on hinged fronts (realikea/tasks/open_task.py: _hand_roll).
 
 Method: from the home posture, walk the TCP to the point in 1 cm IK steps at pitch 0 (as a policy
@@ -55,7 +55,7 @@ def reach(home, dx: float, h: float, roll: float, sign: int) -> float | None:
 def main() -> None:
     home = np.asarray(load_config([]).sim.robot.home, float)
     heights = (0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
-    for roll in (0.0, math.pi / 2, math.pi):
+    for roll in (0.0, math.pi / 2):
         print(f"roll {math.degrees(roll):.0f} deg: rows dx (m in front of the base), columns h")
         print("dx    " + " ".join(f"{h:>12}" for h in heights))
         for dx in (0.55, 0.60, 0.65, 0.75):
