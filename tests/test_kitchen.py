@@ -10,6 +10,7 @@ import pytest
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.runs import run_scene
 from realikea.policies.registry import make_policy
 from realikea.sim.scene import FRONT_BODY, FRONT_JOINT, HANDLE_SITE, build_scene, reset_home
 from realikea.tasks.open_task import OpenTask
@@ -167,3 +168,71 @@ def test_hook_oracle_levers_a_door_knob_from_the_hinge_side(tmp_path, base):
                 break
         assert result.info["outcome"] == "success", (seed, result.info["termination"])
         assert result.info["strategy"] == "lever", (seed, result.info["strategy"])
+
+
+def _task(tmp_path, part: str, base: str, *extra: str, seed: int = 0) -> OpenTask:
+    cfg = load_config(
+        [f"asset.part={part}", f"asset.base={base}", "dr=randomized", "resistance=high",
+         f"paths.library={tmp_path}", *extra],
+        "eval",
+    )  # fmt: skip
+    return OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
+
+
+def test_a_finger_pull_drawer_places_the_arm_below_its_handle_with_its_own_home(tmp_path):
+    """A finger pull on a drawer is caught from below, the hand pitched up, which the arm's
+    joint limits allow with the handle 0.15 m above its base (scene.robot.placements); every
+    other configuration keeps the arm 0.80 m below the handle and sim.robot.home."""
+    for part, above, placed in (("fp_cup_96", 0.15, True), ("knob_round_30", 0.80, False)):
+        task = _task(tmp_path, part, "drawer_w40_h20")
+        task.reset()
+        below = task.facts().handle_pos[2] - task.model.body("link0").pos[2]
+        assert below == pytest.approx(above, abs=0.02), part  # the poses' jitter
+        home = np.asarray(task.cfg.scene.robot.placements[0].home if placed else
+                          task.cfg.sim.robot.home)  # fmt: skip
+        np.testing.assert_allclose(task.home, home)
+
+
+def test_a_placement_naming_no_category_is_refused(tmp_path):
+    with pytest.raises(RealIkeaError, match=r"placements\[0\] names category 'finger'"):
+        _task(tmp_path, "fp_cup_96", "drawer_w40_h20",
+              "scene.robot.placements=[{category: finger, kind: drawer, handle_above_base: 0.2, "
+              "home: [0, 0, 0, -1, 0, 1, 0]}]")  # fmt: skip
+
+
+def test_a_placement_home_outside_the_joint_limits_is_refused(tmp_path):
+    with pytest.raises(RealIkeaError, match=r"placements\[0\].home"):
+        _task(tmp_path, "fp_cup_96", "drawer_w40_h20",
+              "scene.robot.placements=[{category: finger_pull, kind: drawer, "
+              "handle_above_base: 0.2, home: [0, 0, 0, 0, 0, 1, 0]}]")  # fmt: skip
+
+
+@pytest.mark.parametrize("part", ["fp_edge_64", "fp_lip_36", "fp_cup_96"])
+def test_hook_oracle_hooks_a_finger_pull_drawer_from_below(tmp_path, part):
+    """Placed with the handle 0.15 m above the arm's base, the hand pitches up 0.6 rad and the
+    leading pad's tip goes up behind the lip: the drawer opens in high resistance by a hook
+    (with the arm 0.80 m below the handle, none of the test finger pulls opened)."""
+    task = _task(tmp_path, part, "drawer_w40_h20", "policy=hook_oracle", "contacts.log=true")
+    policy = make_policy(task.cfg)
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    for _ in range(task.horizon):
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            break
+    assert result.info["outcome"] == "success", (result.info["termination"], task.opening)
+    assert result.info["strategy"] == "hook", result.info["strategy"]
+
+
+def test_a_rerun_evaluates_a_run_in_the_scene_it_was_trained_in(tmp_path):
+    """Before the kitchen: freestanding; a kitchen run from before the per-category placements:
+    every arm 0.80 m below its handle; a later run: its own config."""
+    (tmp_path / "config.yaml").write_text("asset:\n  category: knob\n")
+    assert run_scene(tmp_path) == ["scene=freestanding"]
+    (tmp_path / "config.yaml").write_text("scene:\n  name: kitchen\n  robot:\n    standoff: 0.6\n")
+    assert run_scene(tmp_path) == ["scene.robot.placements=[]"]
+    (tmp_path / "config.yaml").write_text(
+        "scene:\n  name: kitchen\n  robot:\n    standoff: 0.6\n    placements: []\n"
+    )
+    assert run_scene(tmp_path) == []

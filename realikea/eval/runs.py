@@ -149,10 +149,15 @@ def rerun_split(hydra: Path) -> str:
 
 
 def run_scene(hydra: Path) -> list[str]:
-    """The scene override that re-evaluates a run where it was trained: none for a run whose
-    config has a scene (its command line or the default carries it), `scene=freestanding` for a
-    run made before the kitchen scene existed."""
-    return [] if "scene" in OmegaConf.load(Path(hydra) / "config.yaml") else ["scene=freestanding"]
+    """The scene overrides that re-evaluate a run where it was trained: `scene=freestanding` for
+    a run made before the kitchen scene existed; `scene.robot.placements=[]` for a kitchen run
+    made before the kitchen placed the robot per category (every configuration's arm 0.80 m
+    below its handle); none for a later run (its command line or the default carries it)."""
+    scene = OmegaConf.load(Path(hydra) / "config.yaml").get("scene")
+    if scene is None:
+        return ["scene=freestanding"]
+    robot = scene.get("robot")
+    return ["scene.robot.placements=[]"] if robot and "placements" not in robot else []
 
 
 def rerun(runs: list[Path]) -> int:

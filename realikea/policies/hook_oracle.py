@@ -65,7 +65,7 @@ class OracleParams:
     pull_wrist: float = 0.3  # share of a flap's turn the wrist follows
     door_pull_wrist: float = 1.0  # share of a door's turn the wrist follows
     wedge_pitch: float = 0.55  # rad the hand is tipped towards a knob's head for its wedge
-    lip_pitch: float = 0.25  # rad tipped up for a lip's wedge
+    lip_pitch: float = 0.6  # rad tipped up for a lip's wedge
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
     wedge_preload: float = 0.001  # m the pad's face is set into the edge before the pull
     loop_body_clearance: float = 0.002  # m between a closed finger body and the bar
@@ -144,11 +144,12 @@ class HookOracle(WaypointPolicy):
         p, f = self.params, _features(facts)
         knob = facts.category == "knob"
         side = _knob_side(facts) if knob else 1.0
-        pitch = -p.wedge_pitch if knob else p.lip_pitch  # down on drawers' knobs, up on lips
+        # the part-frame y the hand moves along as it slides in: towards a knob's axis from the
+        # side it comes from (the jaws straddle the head), up into a lip's channel
+        towards = -side if knob else 1.0
+        pitch = p.wedge_pitch if knob else p.lip_pitch
         a, j = self._axes(facts, pitch)
-        if knob and a[1] * side > 0:
-            # the hand must slide in towards the knob's axis from the side it comes from, so
-            # that the jaws straddle the head; on a door the hand's roll flips the tip's sense
+        if a[1] * towards < 0:  # a rolled hand (doors) tips the other way for the same pitch
             pitch = -pitch
             a, j = self._axes(facts, pitch)
         sign = 1.0 if j[2] < 0 else -1.0  # the finger that leads (further towards the front)

@@ -7,7 +7,8 @@ stands). Two scenes (`cfg.scene`, realikea/conf/scene/):
 * `kitchen` (default): the configuration stands in a fitted kitchen run (realikea/sim/kitchen.py)
   on the floor, and the robot is placed as a mobile manipulator with a lift would be: facing the
   handle from `scene.robot.standoff`, its base `scene.robot.handle_above_base` below the handle
-  within the lift's range.
+  within the lift's range, or as a `scene.robot.placements` entry for the configuration's
+  category and kind says, with the arm's home posture for that placement.
 * `freestanding`: the configuration alone on a plinth whose height depends on the base kind, the
   robot on the floor at `sim.robot.base_pos` (the layout every result before the kitchen used).
 
@@ -38,6 +39,7 @@ from realikea.sim.robot import (
     PAD_GEOMS,
     TCP_SITE,
     GripperModel,
+    joint_limits,
     robot_xml,
 )
 
@@ -171,15 +173,49 @@ def closed_front(config_mjcf: Path) -> ClosedFront:
     return ClosedFront(handle, "hinge", lever_arm(data.xanchor[joint], data.xaxis[joint], handle))
 
 
-def robot_base(scene: DictConfig, handle: np.ndarray, sim: DictConfig) -> np.ndarray:
+@dataclass(frozen=True)
+class Placement:
+    """How far below the handle the kitchen's lift puts the arm's base, and the arm's home
+    posture there."""
+
+    handle_above_base: float  # m
+    home: np.ndarray  # (7,) rad
+
+
+def placement(cfg: DictConfig, category: str | None, kind: str) -> Placement:
+    """The kitchen robot's placement for a configuration of this part category and base kind:
+    the `scene.robot.placements` entry naming both, else `scene.robot.handle_above_base` with
+    `sim.robot.home`. Outside the kitchen, the home posture only (the height is unused)."""
+    robot = cfg.scene.get("robot")
+    default = Placement(float(robot.handle_above_base) if robot else 0.0,
+                        np.asarray(cfg.sim.robot.home, float))  # fmt: skip
+    if cfg.scene.name != "kitchen":
+        return default
+    found = default
+    lo, hi = joint_limits().T
+    for i, entry in enumerate(robot.get("placements") or []):
+        where = f"scene.robot.placements[{i}]"
+        missing = {"category", "kind", "handle_above_base", "home"} - set(entry)
+        if missing:
+            raise RealIkeaError(f"{where} lacks {', '.join(sorted(missing))}")
+        home = np.asarray(entry.home, float)
+        if home.shape != (7,) or np.any(home < lo) or np.any(home > hi):
+            raise RealIkeaError(f"{where}.home={list(entry.home)}: seven angles within the arm's "
+                                "joint limits, please")  # fmt: skip
+        if entry.category == category and entry.kind == kind and found is default:
+            found = Placement(float(entry.handle_above_base), home)
+    return found
+
+
+def robot_base(scene: DictConfig, handle: np.ndarray, sim: DictConfig, above: float) -> np.ndarray:
     """Where the robot's base stands: at `sim.robot.base_pos` in the freestanding scene; in the
-    kitchen facing the handle (world frame) from the stand-off, raised by the lift to the set
-    height below it."""
+    kitchen facing the handle (world frame) from the stand-off, raised by the lift to `above`
+    below it (`placement`), within the lift's range."""
     if scene.name != "kitchen":
         return np.asarray(sim.robot.base_pos, float)
     robot = scene.robot
     lo, hi = (float(v) for v in robot.lift)
-    height = min(max(float(handle[2]) - float(robot.handle_above_base), lo), hi)
+    height = min(max(float(handle[2]) - above, lo), hi)
     return np.array([float(handle[0]) + float(robot.standoff), float(handle[1]), height])
 
 
@@ -194,9 +230,10 @@ def _platform(spec: mujoco.MjSpec, base: np.ndarray) -> None:
     )  # fmt: skip
 
 
-def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
+def build_scene(config_mjcf: Path, cfg: DictConfig, category: str | None = None) -> mujoco.MjModel:
     """Compile the robot (cfg.gripper) in front of one configuration (cfg.resistance applied to
-    its front joint) in cfg.scene, with the contact model of cfg.contact and cfg.sim's physics."""
+    its front joint) in cfg.scene, with the contact model of cfg.contact and cfg.sim's physics;
+    `category` (the part's) picks the kitchen robot's placement (`placement`)."""
     config_mjcf = Path(config_mjcf)
     if not config_mjcf.is_file():
         raise RealIkeaError(f"MJCF not found: {config_mjcf}")
@@ -218,7 +255,7 @@ def build_scene(config_mjcf: Path, cfg: DictConfig) -> mujoco.MjModel:
     spec.attach(cabinet, prefix=PREFIX, frame=frame)
     front = closed_front(config_mjcf)
     handle = front.handle + [0.0, 0.0, height]  # in the world
-    base = robot_base(scene, handle, cfg.sim)
+    base = robot_base(scene, handle, cfg.sim, placement(cfg, category, kind).handle_above_base)
     spec.body("link0").pos = base
     _platform(spec, base)
     eye = handle + np.array([1.35, -1.3, 0.95])  # the overview camera, aimed at the handle

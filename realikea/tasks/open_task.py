@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.catalog import CATEGORIES, Catalog
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, GripperModel
@@ -29,6 +29,7 @@ from realikea.sim.scene import (
     PART_BODY,
     TCP_SITE,
     build_scene,
+    placement,
     reset_home,
     subtree_geoms,
 )
@@ -106,13 +107,14 @@ class OpenTask:
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         task = cfg.task
         self.cfg = cfg
-        self.model = build_scene(Path(config_mjcf), cfg)
-        self.data = mujoco.MjData(self.model)
         self.config_id = Path(config_mjcf).parent.name
         self.part, self.base = _catalog_entries(self.config_id)
+        _check_placements(cfg)
+        self.model = build_scene(Path(config_mjcf), cfg, self.part.category)
+        self.data = mujoco.MjData(self.model)
         roll = _hand_roll(self.model, self.base.mount_roll_deg)
         self.nominal = rolled_nominal(roll)
-        self.home = np.asarray(cfg.sim.robot.home, float)
+        self.home = placement(cfg, self.part.category, self.base.kind).home
         base = self.model.body("link0").pos.copy()  # where the scene placed the robot
         if roll:  # turning the hand about its approach axis is turning joint 7
             start, posture = self.home - [0, 0, 0, 0, 0, 0, roll], None
@@ -456,6 +458,19 @@ def _mirrored_door(model: mujoco.MjModel, roll: float) -> bool:
     joint = model.joint(FRONT_JOINT)
     vertical = abs(float(model.jnt_axis[joint.id][2])) > 0.5
     return joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE and vertical and roll < 0
+
+
+def _check_placements(cfg: DictConfig) -> None:
+    """Every kitchen placement names a part category and a base kind the catalog has (one that
+    names neither would never apply)."""
+    robot = cfg.scene.get("robot")
+    for i, entry in enumerate((robot.get("placements") if robot else None) or []):
+        if entry.get("category") not in CATEGORIES or entry.get("kind") not in BASE_KINDS:
+            raise RealIkeaError(
+                f"scene.robot.placements[{i}] names category {entry.get('category')!r} and kind "
+                f"{entry.get('kind')!r}: categories {', '.join(CATEGORIES)}; kinds "
+                f"{', '.join(BASE_KINDS)}"
+            )
 
 
 def _catalog_entries(config_id: str):
