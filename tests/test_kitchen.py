@@ -145,38 +145,42 @@ def test_both_wide_doors_open_past_success_with_a_pinch(tmp_path, base):
     assert result.info["outcome"] == "success", (result.info["termination"], task.opening)
 
 
-@pytest.mark.parametrize("base", ["door_left_w40_h80", "door_right_w40_h80"])
-def test_hook_oracle_levers_a_door_knob_from_the_hinge_side(tmp_path, base):
-    """On a door the knob's wedge comes from the hinge's side with the jaws straddling the head,
-    and the wrist follows the door's whole turn: the door opens in high resistance by a lever.
-    With the drawer's pitch both jaws pass the head on one side; with the wrist following 0.3
-    of the turn the head turns off the pad."""
-    cfg = load_config(
-        ["asset.part=knob_mushroom_38", f"asset.base={base}", "dr=randomized",
-         "policy=hook_oracle", "resistance=high", "contacts.log=true", f"paths.library={tmp_path}"],
-        "eval",
-    )  # fmt: skip
-    policy = make_policy(cfg)
-    for seed in (0, 1):
-        task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
-        obs = task.reset()
-        policy.reset([0], [task.facts()])
-        for _ in range(task.horizon):
-            result = task.step(policy.act(obs[None])[0])
-            obs = result.obs
-            if result.terminated or result.truncated:
-                break
-        assert result.info["outcome"] == "success", (seed, result.info["termination"])
-        assert result.info["strategy"] == "lever", (seed, result.info["strategy"])
+ORACLE = ("policy=hook_oracle", "contacts.log=true")  # the oracle, its strategies labelled
 
 
 def _task(tmp_path, part: str, base: str, *extra: str, seed: int = 0) -> OpenTask:
+    """One configuration's task in high resistance, poses randomized (the draw `seed`)."""
     cfg = load_config(
         [f"asset.part={part}", f"asset.base={base}", "dr=randomized", "resistance=high",
          f"paths.library={tmp_path}", *extra],
         "eval",
     )  # fmt: skip
     return OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
+
+
+def _episode(task: OpenTask) -> dict:
+    """One episode of the task's configured scripted policy; the final step's info."""
+    policy = make_policy(task.cfg)
+    obs = task.reset()
+    policy.reset([0], [task.facts()])
+    while True:
+        result = task.step(policy.act(obs[None])[0])
+        obs = result.obs
+        if result.terminated or result.truncated:
+            return result.info
+
+
+@pytest.mark.parametrize("base", ["door_left_w40_h80", "door_right_w40_h80"])
+def test_hook_oracle_levers_a_door_knob_from_the_hinge_side(tmp_path, base):
+    """On a door the knob's wedge comes from the hinge's side with the jaws straddling the head,
+    and the wrist follows the door's whole turn: the door opens in high resistance by a lever.
+    With the drawer's pitch both jaws pass the head on one side; with the wrist following 0.3
+    of the turn the head turns off the pad."""
+    for seed in (0, 1):
+        task = _task(tmp_path, "knob_mushroom_38", base, *ORACLE, seed=seed)
+        info = _episode(task)
+        assert info["outcome"] == "success", (seed, info["termination"])
+        assert info["strategy"] == "lever", (seed, info["strategy"])
 
 
 def test_a_finger_pull_drawer_places_the_arm_below_its_handle_with_its_own_home(tmp_path):
@@ -212,17 +216,10 @@ def test_hook_oracle_hooks_a_finger_pull_drawer_from_below(tmp_path, part):
     """Placed with the handle 0.15 m above the arm's base, the hand pitches up 0.6 rad and the
     leading pad's tip goes up behind the lip: the drawer opens in high resistance by a hook
     (with the arm 0.80 m below the handle, none of the test finger pulls opened)."""
-    task = _task(tmp_path, part, "drawer_w40_h20", "policy=hook_oracle", "contacts.log=true")
-    policy = make_policy(task.cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    for _ in range(task.horizon):
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
-        if result.terminated or result.truncated:
-            break
-    assert result.info["outcome"] == "success", (result.info["termination"], task.opening)
-    assert result.info["strategy"] == "hook", result.info["strategy"]
+    task = _task(tmp_path, part, "drawer_w40_h20", *ORACLE)
+    info = _episode(task)
+    assert info["outcome"] == "success", (info["termination"], task.opening)
+    assert info["strategy"] == "hook", info["strategy"]
 
 
 def test_a_rerun_evaluates_a_run_in_the_scene_it_was_trained_in(tmp_path):
