@@ -107,6 +107,8 @@ class OpenTask:
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         task = cfg.task
         self.cfg = cfg
+        if not Path(config_mjcf).is_file():  # before its folder is read as a configuration id
+            raise RealIkeaError(f"MJCF not found: {config_mjcf}")
         self.config_id = Path(config_mjcf).parent.name
         self.part, self.base = _catalog_entries(self.config_id)
         _check_placements(cfg)
