@@ -94,9 +94,8 @@ def _features(facts: SceneFacts) -> dict:
 
 def _knob_side(facts: SceneFacts) -> float:
     """The part-frame y side (+1 or -1) a knob's wedge comes from: above on drawers and flaps,
-    the hinge's side on doors (measured on `knob_mushroom_38`, `door_left_w40_h80`: from the
-    hinge's side the door opened 0.89 rad with the wrist following the turn, from the other
-    side the wrist ran joint 6 into its limit and the door stayed shut)."""
+    the hinge's side on doors (traced on `knob_mushroom_38`, `door_left_w40_h80`: from the
+    other side the wrist ran joint 6 into its limit and the door stayed shut)."""
     if facts.base_kind != "door":
         return 1.0
     return 1.0 if facts.to_part(facts.hinge_anchor)[1] > 0 else -1.0
