@@ -11,6 +11,7 @@ realikea/conf/scene/kitchen.yaml's `robot.placements`.
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 
 import numpy as np
@@ -76,21 +77,26 @@ def search(above: float, dx: float, back: float, seeds: int, rng) -> list[tuple]
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--above", nargs="+", type=float, default=[0.15, 0.80])
-    parser.add_argument("--dx", type=float, default=0.60, help="m from the base to the handle")
+    parser.add_argument(
+        "--dx", nargs="+", type=float, default=[0.60], help="m from the base to the handle"
+    )
     parser.add_argument("--back", type=float, default=0.15, help="m the home stands back")
     parser.add_argument("--seeds", type=int, default=60)
     parser.add_argument("--show", type=int, default=3)
     args = parser.parse_args()
     rng = np.random.default_rng(0)
-    print(f"dx {args.dx} m, home {args.back} m in front of the handle, {args.seeds} seeds\n")
-    print("| handle above base (m) | converged | up (rad) | down (rad) | margin (rad) | posture |")
-    print("|---:|---:|---:|---:|---:|---|")
-    for above in args.above:
-        found = search(above, args.dx, args.back, args.seeds, rng)
+    print(f"home {args.back} m in front of the handle, {args.seeds} seeds\n")
+    print(
+        "| handle above base (m) | dx (m) | converged | up (rad) | down (rad) | margin (rad) "
+        "| posture |"
+    )
+    print("|---:|---:|---:|---:|---:|---:|---|")
+    for above, dx in itertools.product(args.above, args.dx):
+        found = search(above, dx, args.back, args.seeds, rng)
         for up, down, margin, home in found[: args.show]:
             posture = ", ".join(f"{v:.3f}" for v in home)
             cells = f"{up:+.2f} | {down:+.2f} | {margin:.2f} | {posture}"
-            print(f"| {above} | {len(found)} | {cells} |")
+            print(f"| {above} | {dx} | {len(found)} | {cells} |")
 
 
 if __name__ == "__main__":

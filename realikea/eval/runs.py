@@ -150,14 +150,27 @@ def rerun_split(hydra: Path) -> str:
 
 def run_scene(hydra: Path) -> list[str]:
     """The scene overrides that re-evaluate a run where it was trained: `scene=freestanding` for
-    a run made before the kitchen scene existed; `scene.robot.placements=[]` for a kitchen run
-    made before the kitchen placed the robot per category (every configuration's arm 0.80 m
-    below its handle); none for a later run (its command line or the default carries it)."""
+    a run made before the kitchen scene existed; in the kitchen, the run's own per-category
+    placements (none for a run made before them: every configuration's arm 0.80 m below its
+    handle), so a later change to the default placements leaves its evaluation unchanged."""
     scene = OmegaConf.load(Path(hydra) / "config.yaml").get("scene")
     if scene is None:
         return ["scene=freestanding"]
     robot = scene.get("robot")
-    return ["scene.robot.placements=[]"] if robot and "placements" not in robot else []
+    if not robot:
+        return []
+    placements = robot.get("placements")
+    placements = OmegaConf.to_container(placements) if placements else []
+    return [f"scene.robot.placements={_override_value(placements)}"]
+
+
+def _override_value(value) -> str:
+    """A value in Hydra's override grammar (flow style, bare keys, quoted strings)."""
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_override_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list):
+        return "[" + ", ".join(_override_value(v) for v in value) + "]"
+    return json.dumps(value)
 
 
 def rerun(runs: list[Path]) -> int:

@@ -21,8 +21,9 @@ Two ways of catching the part, chosen by its category:
   lip) into the space behind it, then pulls. The inclined inner face pushes the edge out along
   the opening direction and across it (towards the knob's axis, up on a lip), the front's
   joint and the stiff arm taking the cross component: the normal force carries the pull. The
-  other jaw stays wide open, clear of it all. On doors the wrist follows the door's whole turn
-  (`door_pull_wrist`), so the head does not turn off the pad.
+  other jaw stays wide open, clear of it all. On doors the wrist follows a knob's whole turn
+  (`door_pull_wrist`), so the head does not turn off the pad; behind a lip it holds its pitch
+  (`lip_door_pull_wrist`): turning with the door, its first step tips the pad off the edge.
 
 A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
 a gap behind it; a pull without a channel) gets no plan: the hand holds still with the gripper
@@ -64,6 +65,7 @@ class OracleParams:
     pull_angle: float = 1.2  # rad a door or flap is turned along its arc (success: 0.785)
     pull_wrist: float = 0.3  # share of a flap's turn the wrist follows
     door_pull_wrist: float = 1.0  # share of a door's turn the wrist follows
+    lip_door_pull_wrist: float = 0.0  # the same for a lip's wedge on a door
     wedge_pitch: float = 0.55  # rad the hand is tipped towards a knob's head for its wedge
     lip_pitch: float = 0.6  # rad tipped up for a lip's wedge
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
@@ -176,7 +178,9 @@ class HookOracle(WaypointPolicy):
     # --- the plan ---------------------------------------------------------------------------
     def plan(self, facts: SceneFacts) -> list[Waypoint]:
         p, c = self.params, self.catch(facts)
-        wrist = p.door_pull_wrist if facts.base_kind == "door" else p.pull_wrist
+        wrist = p.pull_wrist
+        if facts.base_kind == "door":
+            wrist = p.lip_door_pull_wrist if facts.category == "finger_pull" else p.door_pull_wrist
         world = facts.to_world
         at = world(c.tcp)
         if c.mode == "loop":

@@ -175,11 +175,13 @@ def closed_front(config_mjcf: Path) -> ClosedFront:
 
 @dataclass(frozen=True)
 class Placement:
-    """How far below the handle the kitchen's lift puts the arm's base, and the arm's home
-    posture there."""
+    """How far below the handle the kitchen's lift puts the arm's base, the arm's home posture
+    there, and whether the hand is turned half a turn about its approach from the roll the task
+    picks (`hand_turned`: the way its wrist pitches is then reversed)."""
 
     handle_above_base: float  # m
     home: np.ndarray  # (7,) rad
+    hand_turned: bool = False
 
 
 def placement(cfg: DictConfig, category: str | None, kind: str) -> Placement:
@@ -203,7 +205,8 @@ def placement(cfg: DictConfig, category: str | None, kind: str) -> Placement:
             raise RealIkeaError(f"{where}.home={list(entry.home)}: seven angles within the arm's "
                                 "joint limits, please")  # fmt: skip
         if entry.category == category and entry.kind == kind and found is default:
-            found = Placement(float(entry.handle_above_base), home)
+            found = Placement(float(entry.handle_above_base), home,
+                              bool(entry.get("hand_turned", False)))  # fmt: skip
     return found
 
 

@@ -114,9 +114,10 @@ class OpenTask:
         _check_placements(cfg)
         self.model = build_scene(Path(config_mjcf), cfg, self.part.category)
         self.data = mujoco.MjData(self.model)
-        roll = _hand_roll(self.model, self.base.mount_roll_deg)
+        place = placement(cfg, self.part.category, self.base.kind)
+        roll = _hand_roll(self.model, self.base.mount_roll_deg, place.hand_turned)
         self.nominal = rolled_nominal(roll)
-        self.home = placement(cfg, self.part.category, self.base.kind).home
+        self.home = place.home
         base = self.model.body("link0").pos.copy()  # where the scene placed the robot
         if roll:  # turning the hand about its approach axis is turning joint 7
             start, posture = self.home - [0, 0, 0, 0, 0, 0, roll], None
@@ -434,18 +435,22 @@ class OpenTask:
         return self.evaluate(ok)
 
 
-def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float) -> float:
+def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float, turned: bool = False) -> float:
     """The hand's roll (rad) about its approach axis in a configuration, fixed so the jaws close
     across the handle (vertical on doors). The hand is symmetric under a half turn, so of the
     two rolls that do, a hinged front gets the one whose opening turns the wrist in the positive
     pitch direction, where the Panda's wrist has its range (about +1.5 rad against -0.7 rad for
-    the rolled hand at handle height, `python experiments/reach/reach.py`)."""
+    the rolled hand at handle height, `python experiments/reach/reach.py`); `turned` takes the
+    other one (a placement's `hand_turned`: a finger pull's wedge on a door tips the hand the
+    negative way, which leaves joint 6 0.06 rad from its limit at the catch)."""
     roll = math.radians(mount_roll_deg % 180.0)
     joint = model.joint(FRONT_JOINT)
     if joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE:
         axis = model.jnt_axis[joint.id]  # the front's frame is the world's, turned by no more
         if float(axis @ rolled_nominal(roll)[:, 0]) < 0:  # than the pose randomization's degrees
             roll -= math.pi
+    if turned:
+        roll += math.pi if roll <= 0 else -math.pi
     return roll
 
 
