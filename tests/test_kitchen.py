@@ -228,7 +228,7 @@ def test_hook_oracle_hooks_a_finger_pull_door_with_the_hand_turned(tmp_path):
     turns (short of 45 deg in an episode: experiments/kitchen/README.md)."""
     turned = _task(tmp_path, "fp_lip_36", "door_left_w40_h80", *ORACLE)
     info = _episode(turned)
-    assert info["strategy"] == "hook" and turned.opening > 0.3, (info["strategy"], turned.opening)
+    assert info["strategy"] == "hook" and turned.opening > 0.2, (info["strategy"], turned.opening)
     plain = _task(tmp_path, "fp_lip_36", "door_left_w40_h80", *ORACLE, "scene.robot.placements=[]")
     _episode(plain)
     assert plain.opening < 0.05

@@ -150,12 +150,26 @@ def opening_path(
     arm = grasp - facts.hinge_anchor
     radius = np.linalg.norm(arm - arm.dot(axis) * axis)
     steps = max(2, int(np.ceil(angle * radius / ARC_STEP)) + 1)
-    path = []
-    for theta in np.linspace(0.0, angle, steps)[1:]:
-        c, s = np.cos(theta), np.sin(theta)  # Rodrigues' rotation of the arm about the axis
-        turned = arm * c + np.cross(axis, arm) * s + axis * axis.dot(arm) * (1 - c)
-        path.append((facts.hinge_anchor + turned, wrist * turn * theta))
-    return path
+    return [
+        (facts.hinge_anchor + rotated(arm, axis, theta), wrist * turn * theta)
+        for theta in np.linspace(0.0, angle, steps)[1:]
+    ]
+
+
+def rotated(vector: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
+    """`vector` turned by `angle` (rad) about the unit `axis` (Rodrigues)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return vector * c + np.cross(axis, vector) * s + axis * axis.dot(vector) * (1 - c)
+
+
+def held_path(path: list[tuple[np.ndarray, float]], held: np.ndarray, tcp: np.ndarray,
+              facts: SceneFacts) -> list[tuple[np.ndarray, float]]:  # fmt: skip
+    """An opening path of the point the hand holds (`held`, off the TCP) as the TCP's path: the
+    hand keeps its offset to that point, turned by its own pitch change (about the TCP's x
+    axis), so a fingertip hooked off the TCP follows its own arc whatever share of the front's
+    turn the wrist follows (with the whole turn, the TCP's own arc)."""
+    offset, x = tcp - held, facts.tcp_nominal[:, 0]
+    return [(point + rotated(offset, x, turn), turn) for point, turn in path]
 
 
 def follow(path: list[tuple[np.ndarray, float]], pitch: float, grip: float) -> list[Waypoint]:
