@@ -162,8 +162,9 @@ def rotated(vector: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
     return vector * c + np.cross(axis, vector) * s + axis * axis.dot(vector) * (1 - c)
 
 
-def held_path(path: list[tuple[np.ndarray, float]], held: np.ndarray, tcp: np.ndarray,
-              facts: SceneFacts) -> list[tuple[np.ndarray, float]]:  # fmt: skip
+def held_path(
+    path: list[tuple[np.ndarray, float]], held: np.ndarray, tcp: np.ndarray, facts: SceneFacts
+) -> list[tuple[np.ndarray, float]]:
     """An opening path of the point the hand holds (`held`, off the TCP) as the TCP's path: the
     hand keeps its offset to that point, turned by its own pitch change (about the TCP's x
     axis), so a fingertip hooked off the TCP follows its own arc whatever share of the front's

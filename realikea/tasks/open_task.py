@@ -442,7 +442,8 @@ def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float, turned: bool = Fals
     pitch direction, where the Panda's wrist has its range (about +1.5 rad against -0.7 rad for
     the rolled hand at handle height, `python experiments/reach/reach.py`); `turned` takes the
     other one (a placement's `hand_turned`: a finger pull's wedge on a door tips the hand the
-    negative way, which leaves joint 6 0.06 rad from its limit at the catch)."""
+    negative way, which leaves joint 6 0.07-0.09 rad from its limit at the catch:
+    experiments/kitchen/results/wrist_load.md)."""
     roll = math.radians(mount_roll_deg % 180.0)
     joint = model.joint(FRONT_JOINT)
     if joint.type[0] == mujoco.mjtJoint.mjJNT_HINGE:
