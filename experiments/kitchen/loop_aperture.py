@@ -16,6 +16,7 @@ from realikea.assets.catalog import Catalog
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.policies.registry import make_policy
+from realikea.policies.rollout import episode
 from realikea.tasks.open_task import OpenTask
 
 CLOSE, PULL = 3, 4  # the loop's waypoints: closing on the bar, the first of the pull
@@ -26,19 +27,15 @@ def loop_episode(cfg, seed: int) -> tuple[str, float, float]:
     first step."""
     task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
     policy = make_policy(cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
     closed = pulled = float("nan")
-    while True:
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
+    for result in episode(task, policy):
+        info = result.info  # the last step's once the loop ends
         phase = policy.phase[0]
         if phase == CLOSE:
             closed = task.aperture
         elif phase >= PULL and math.isnan(pulled):  # the first step of the pull
             pulled = task.aperture
-        if result.terminated or result.truncated:
-            return result.info["outcome"], closed, pulled
+    return info["outcome"], closed, pulled
 
 
 def main() -> None:

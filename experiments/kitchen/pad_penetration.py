@@ -16,6 +16,7 @@ import numpy as np
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.policies.registry import make_policy
+from realikea.policies.rollout import episode
 from realikea.sim.robot import PAD_GEOMS
 from realikea.sim.scene import PART_BODY, subtree_geoms
 from realikea.tasks.open_task import OpenTask
@@ -45,20 +46,15 @@ def measure(config_id: str) -> dict:
     pads = {model.geom(name).id for name in PAD_GEOMS}
     part = set(subtree_geoms(model, model.body(PART_BODY).id))
     policy = make_policy(cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
     deepest, forces = 0.0, []
-    while True:
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
+    for result in episode(task, policy):
+        info = result.info  # the last step's once the loop ends
         depth, force = pad_contacts(model, data, pads, part)
         deepest = min(deepest, depth)
         if force > 0 and task.opening > 0.005:  # the front moving on the pads
             forces.append(force)
-        if result.terminated or result.truncated:
-            break
     return {
-        "outcome": result.info["outcome"], "strategy": result.info["strategy"],
+        "outcome": info["outcome"], "strategy": info["strategy"],
         "opening": task.opening, "deepest_mm": -1000 * deepest,
         "force": (min(forces), max(forces)) if forces else (0.0, 0.0),
     }  # fmt: skip

@@ -17,6 +17,7 @@ import numpy as np
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.policies.registry import make_policy
+from realikea.policies.rollout import episode
 from realikea.sim.robot import joint_limits
 from realikea.sim.scene import ARM_ACTUATORS, ARM_JOINTS
 from realikea.tasks.open_task import OpenTask
@@ -37,12 +38,9 @@ def measure(config_id: str, overrides: list[str]) -> dict:
     lo, hi = joint_limits().T
     limit = np.array([model.actuator(name).forcerange[1] for name in ARM_ACTUATORS])
     policy = make_policy(cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
     margin, saturated, pulling = None, Counter(), 0
-    while True:
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
+    for result in episode(task, policy):
+        info = result.info  # the last step's once the loop ends
         q = np.array([data.joint(name).qpos[0] for name in ARM_JOINTS])
         if policy.phase[0] == CATCH:  # its last step there counts
             margin = np.minimum(q - lo, hi - q)
@@ -50,11 +48,9 @@ def measure(config_id: str, overrides: list[str]) -> dict:
             pulling += 1
             force = np.abs([data.actuator(name).force[0] for name in ARM_ACTUATORS])
             saturated.update(int(j) + 1 for j in np.flatnonzero(force >= SATURATED * limit))
-        if result.terminated or result.truncated:
-            break
     nearest = int(np.argmin(margin)) + 1 if margin is not None else 0
     return {
-        "strategy": result.info["strategy"], "opening": task.opening,
+        "strategy": info["strategy"], "opening": task.opening,
         "nearest": (nearest, float(margin.min()) if margin is not None else float("nan")),
         "saturated": {j: n / max(pulling, 1) for j, n in sorted(saturated.items())},
     }  # fmt: skip

@@ -16,6 +16,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, trained_cell
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
+from realikea.policies.rollout import episode
 from realikea.tasks.open_task import OpenTask
 
 RUNS = WORKSPACE / "experiments/reward_screen/results/runs"
@@ -24,21 +25,18 @@ FROM = 35  # step from which the pull is forced (the kept policies grasp by step
 PULLS = (None, 0.5, 1.0)  # None: the policy's own command; else the command along the opening
 
 
-def episode(task: OpenTask, policy, pull: float | None) -> tuple[float, int, int]:
+def forced_episode(task: OpenTask, policy, pull: float | None) -> tuple[float, int, int]:
     """(opening, final stage, steps) of one episode with the pull forced from FROM on."""
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    for t in range(task.horizon):
-        action = policy.act(obs[None])[0]
+
+    def steer(t: int, action):
         if pull is not None and t >= FROM:
             u = task.pull_direction()
             move = action[1:4]
             action[1:4] = move - move.dot(u) * u + pull * u
-        result = task.step(action)
-        obs = result.obs
-        if result.terminated or result.truncated:
-            break
-    return task.opening, result.info["stage"], t + 1
+        return action
+
+    results = list(episode(task, policy, steer))
+    return task.opening, results[-1].info["stage"], len(results)
 
 
 def main() -> int:
@@ -62,7 +60,7 @@ def main() -> int:
     for k, configuration in enumerate(training_configurations(cfg, CONFIGURATIONS, 0)):
         for pull in PULLS:
             task = OpenTask(cfg, configuration, seed=k)
-            opening, stage, steps = episode(task, policy, pull)
+            opening, stage, steps = forced_episode(task, policy, pull)
             label = "the policy's" if pull is None else f"{pull:.1f}"
             print(f"| {k} | {label} | {opening:.3f} | {stage} | {steps} |")
     return 0

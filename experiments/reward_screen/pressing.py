@@ -22,6 +22,7 @@ from realikea.assets.library import training_configurations
 from realikea.eval.setup import eval_setup, trained_cell
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
+from realikea.policies.rollout import episode
 from realikea.tasks.open_task import OpenTask
 
 RUNS = WORKSPACE / "experiments/reward_screen/results/runs"
@@ -40,19 +41,14 @@ def measure(run: str, episodes: int) -> dict:
     successes, forces, steps = 0, [], 0
     for k, configuration in enumerate(configurations):
         task = OpenTask(cfg, configuration, seed=k)
-        obs = task.reset()
-        policy.reset([0], [task.facts()])
-        for t in range(task.horizon):
-            result = task.step(policy.act(obs[None])[0])
-            obs = result.obs
+        for t, result in enumerate(episode(task, policy)):
+            info = result.info  # the last step's once the loop ends
             if t >= APPROACH:
                 steps += 1
                 push = task.pressing_force()
                 if push > PRESSING:
                     forces.append(push)
-            if result.terminated or result.truncated:
-                successes += result.info["outcome"] == "success"
-                break
+        successes += info["outcome"] == "success"
     return {
         "checkpoint": path.name,
         "success": successes / len(configurations),
