@@ -8,6 +8,7 @@ import pytest
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.policies.heuristic_pull import HeuristicPull
+from realikea.policies.rollout import final_info
 from realikea.sim.ik import tcp_pitch
 from realikea.tasks.contacts import SUMMARY_KEYS, ClassifierParams, ContactLog, strategy
 from realikea.tasks.open_task import OpenTask
@@ -102,15 +103,7 @@ def test_door_hand_is_rolled_so_the_jaws_close_across_the_vertical_bar(library):
 
 def test_a_pinch_pull_is_classified_pinch(library):
     task = _task(library, "tp_round_bar_128", "drawer_w60_h20")
-    policy = HeuristicPull()
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    while True:
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
-        if result.terminated or result.truncated:
-            break
-    info = result.info
+    info = final_info(task, HeuristicPull())
     assert info["outcome"] == "success"
     assert info["strategy"] == "pinch"
     assert info["friction_share"] > 0.9

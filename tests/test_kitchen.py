@@ -6,12 +6,14 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from omegaconf import OmegaConf
 
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import run_scene
 from realikea.policies.registry import make_policy
+from realikea.policies.rollout import final_info
 from realikea.sim.scene import (
     FRONT_BODY,
     FRONT_JOINT,
@@ -145,14 +147,7 @@ def _task(tmp_path, part: str, base: str, *extra: str, seed: int = 0) -> OpenTas
 
 def _episode(task: OpenTask) -> dict:
     """One episode of the task's configured scripted policy; the final step's info."""
-    policy = make_policy(task.cfg)
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    while True:
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
-        if result.terminated or result.truncated:
-            return result.info
+    return final_info(task, make_policy(task.cfg))
 
 
 @pytest.mark.parametrize("base", ["door_left_w60_h80", "door_right_w60_h80"])
@@ -236,7 +231,8 @@ def test_hook_oracle_hooks_a_finger_pull_door_with_the_hand_turned(tmp_path):
 
 def test_a_rerun_evaluates_a_run_in_the_scene_it_was_trained_in(tmp_path):
     """Before the kitchen: freestanding; a kitchen run from before the per-category placements:
-    every arm 0.80 m below its handle; a later run: its own placements, whatever the default's."""
+    every arm 0.80 m below its handle; a later run: its own placements where today's default
+    differs and its command line did not set them."""
     (tmp_path / "config.yaml").write_text("asset:\n  category: knob\n")
     assert run_scene(tmp_path) == ["scene=freestanding"]
     (tmp_path / "config.yaml").write_text("scene:\n  name: kitchen\n  robot:\n    standoff: 0.6\n")
@@ -250,3 +246,9 @@ def test_a_rerun_evaluates_a_run_in_the_scene_it_was_trained_in(tmp_path):
     (entry,) = cfg.scene.robot.placements
     assert entry.hand_turned is True and list(entry.home) == [0, -1.5, 0, -2, 0, 1, 0]
     assert placement(cfg, "finger_pull", "door").hand_turned
+    (tmp_path / "overrides.yaml").write_text("- scene.robot.placements=[]\n")
+    assert run_scene(tmp_path) == []  # its command line carries them
+    (tmp_path / "overrides.yaml").unlink()
+    today = load_config(["scene=kitchen"]).scene
+    (tmp_path / "config.yaml").write_text(OmegaConf.to_yaml({"scene": today}))
+    assert run_scene(tmp_path) == []  # today's default: nothing to pin

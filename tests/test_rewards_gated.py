@@ -13,6 +13,7 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.policies.registry import make_policy
+from realikea.policies.rollout import episode
 from realikea.policies.scripted import CLOSE, Waypoint, WaypointPolicy
 from realikea.tasks.grip import straddle_offset
 from realikea.tasks.open_task import OpenTask
@@ -284,25 +285,17 @@ def _episode(library, part: str, policy, *overrides: str) -> list[dict]:
     )  # fmt: skip
     task = OpenTask(cfg, training_configurations(cfg, 1, 0)[0], seed=0)
     policy = make_policy(cfg) if isinstance(policy, str) else policy
-    obs = task.reset()
-    policy.reset([0], [task.facts()])
-    steps = []
-    for _ in range(task.horizon):
-        result = task.step(policy.act(obs[None])[0])
-        obs = result.obs
-        steps.append(
-            {
-                "stage": result.info["stage"],
-                "aperture": task.aperture,
-                "open": task.opening,
-                "progress": task.state.progress,
-                "push": task.pressing_force(),
-                "terms": result.info.get("reward_terms"),
-            }
-        )
-        if result.terminated or result.truncated:
-            break
-    return steps
+    return [
+        {
+            "stage": result.info["stage"],
+            "aperture": task.aperture,
+            "open": task.opening,
+            "progress": task.state.progress,
+            "push": task.pressing_force(),
+            "terms": result.info.get("reward_terms"),
+        }
+        for result in episode(task, policy)
+    ]
 
 
 @pytest.fixture(scope="module")

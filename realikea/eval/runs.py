@@ -31,7 +31,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_overrides_with_split, eval_setup, evaluate
 from realikea.eval.sweep import checkpoints
 from realikea.eval.table import CONTACT_STATS, cell_row
-from realikea.files import atomic_write_text, repo_path
+from realikea.files import CONF_DIR, atomic_write_text, repo_path
 from realikea.provenance import result_versions
 
 EVAL_FILE = "eval.json"
@@ -151,16 +151,24 @@ def rerun_split(hydra: Path) -> str:
 def run_scene(hydra: Path) -> list[str]:
     """The scene overrides that re-evaluate a run where it was trained: `scene=freestanding` for
     a run made before the kitchen scene existed; in the kitchen, the run's own per-category
-    placements (none for a run made before them: every configuration's arm 0.80 m below its
-    handle), so a later change to the default placements leaves its evaluation unchanged."""
-    scene = OmegaConf.load(Path(hydra) / "config.yaml").get("scene")
+    placements where they are not today's default (none for a run made before them: every
+    configuration's arm 0.80 m below its handle) and its command line did not set them."""
+    hydra = Path(hydra)
+    scene = OmegaConf.load(hydra / "config.yaml").get("scene")
     if scene is None:
         return ["scene=freestanding"]
     robot = scene.get("robot")
-    if not robot:
+    overrides = hydra / "overrides.yaml"
+    given = overrides.is_file() and any(
+        str(o).startswith("scene.robot.placements=") for o in OmegaConf.load(overrides)
+    )
+    if not robot or given:
         return []
     placements = robot.get("placements")
     placements = OmegaConf.to_container(placements) if placements else []
+    default = OmegaConf.load(CONF_DIR / "scene" / f"{scene.name}.yaml").robot.get("placements")
+    if placements == OmegaConf.to_container(default or []):
+        return []
     return [f"scene.robot.placements={_override_value(placements)}"]
 
 
