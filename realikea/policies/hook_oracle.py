@@ -177,8 +177,8 @@ class HookOracle(WaypointPolicy):
         half_gap = facts.max_aperture / 2
         tcp = tip - sign * half_gap * j - PAD_HALF_LENGTH * a
         # a lip's edge is dragged along the front's arc (the hand held level on doors keeps its
-        # offset to it); a knob's wedge keeps the TCP's own arc (dragging its edge instead, the
-        # knob flaps opened 0.60 of 50 against 0.74: experiments/kitchen/README.md)
+        # offset to it); a knob's wedge keeps the TCP's own arc, with which its cells were
+        # measured (dragging its edge opened fewer knob flaps: experiments/kitchen/README.md)
         return Catch("wedge", pitch, tcp, a, -normal, OPEN, tcp if knob else edge)
 
     def catch(self, facts: SceneFacts) -> Catch:
