@@ -198,6 +198,18 @@ def test_a_placement_naming_no_category_is_refused(tmp_path):
               "home: [0, 0, 0, -1, 0, 1, 0]}]")  # fmt: skip
 
 
+@pytest.mark.parametrize(
+    "extra, match",
+    [("hand_turnd: true", r"placements\[0\] has unknown keys hand_turnd"),
+     ("hand_turned: 'no'", r"placements\[0\].hand_turned='no': true or false")],
+)  # fmt: skip
+def test_a_placement_with_a_bad_key_is_refused(tmp_path, extra, match):
+    with pytest.raises(RealIkeaError, match=match):
+        _task(tmp_path, "fp_cup_96", "door_left_w40_h80",
+              "scene.robot.placements=[{category: finger_pull, kind: door, "
+              f"handle_above_base: 0.8, home: [0, -1.5, 0, -2, 0, 1, 0], {extra}}}]")  # fmt: skip
+
+
 def test_a_placement_home_outside_the_joint_limits_is_refused(tmp_path):
     with pytest.raises(RealIkeaError, match=r"placements\[0\].home"):
         _task(tmp_path, "fp_cup_96", "drawer_w40_h20",

@@ -184,6 +184,9 @@ class Placement:
     hand_turned: bool = False
 
 
+_PLACEMENT_KEYS = {"category", "kind", "handle_above_base", "home"}  # every entry names them
+
+
 def placement(cfg: DictConfig, category: str | None, kind: str) -> Placement:
     """The kitchen robot's placement for a configuration of this part category and base kind:
     the `scene.robot.placements` entry naming both, else `scene.robot.handle_above_base` with
@@ -197,16 +200,22 @@ def placement(cfg: DictConfig, category: str | None, kind: str) -> Placement:
     lo, hi = joint_limits().T
     for i, entry in enumerate(robot.get("placements") or []):
         where = f"scene.robot.placements[{i}]"
-        missing = {"category", "kind", "handle_above_base", "home"} - set(entry)
+        missing = _PLACEMENT_KEYS - set(entry)
         if missing:
             raise RealIkeaError(f"{where} lacks {', '.join(sorted(missing))}")
+        unknown = set(entry) - _PLACEMENT_KEYS - {"hand_turned"}
+        if unknown:
+            raise RealIkeaError(f"{where} has unknown keys {', '.join(sorted(unknown))}; known: "
+                                f"{', '.join(sorted(_PLACEMENT_KEYS))}, hand_turned")  # fmt: skip
+        turned = entry.get("hand_turned", False)
+        if not isinstance(turned, bool):
+            raise RealIkeaError(f"{where}.hand_turned={turned!r}: true or false, please")
         home = np.asarray(entry.home, float)
         if home.shape != (7,) or np.any(home < lo) or np.any(home > hi):
             raise RealIkeaError(f"{where}.home={list(entry.home)}: seven angles within the arm's "
                                 "joint limits, please")  # fmt: skip
         if entry.category == category and entry.kind == kind and found is default:
-            found = Placement(float(entry.handle_above_base), home,
-                              bool(entry.get("hand_turned", False)))  # fmt: skip
+            found = Placement(float(entry.handle_above_base), home, turned)
     return found
 
 
