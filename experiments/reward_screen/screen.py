@@ -43,84 +43,101 @@ CELLS = {
     "knob_high": ("knob", "high"),
 }
 COLLISIONS = ("coacd", "hull")
+# `gated`'s opening weights before the screen made gated_pull_rate's its defaults: every recipe
+# pins them, so each names the reward its kept runs were trained on
+GATED_AS_SCREENED = [
+    "task/reward=gated",
+    "task.reward.keep_opening=false",
+    "task.reward.w_progress=40.0",
+    "task.reward.success_bonus=20.0",
+    "task.reward.w_rate=0.0",
+]
+
+
+def gated(*changes: str) -> list[str]:
+    """The overrides of `gated` as screened with `changes` (key=value) made to it."""
+    changed = {change.split("=")[0] for change in changes}
+    return [o for o in GATED_AS_SCREENED if o.split("=")[0] not in changed] + list(changes)
+
+
 # recipe -> the train.py overrides that make it (the rest: the defaults)
 RECIPES = {
-    "gated": ["task/reward=gated"],
+    "gated": gated(),
     # the fidelity grid's recipe: the appendix reward with w_open2 = 0, every env in lockstep
     "appendix": [
         "task/reward=appendix", "task.reward.w_open2=0.0", "agent.init_at_random_ep_len=false",
     ],
     # one change of the gated recipe undone at a time
-    "gated_lockstep": ["task/reward=gated", "agent.init_at_random_ep_len=false"],
-    "gated_unscaled": ["task/reward=gated", "task.reward.scale=1.0"],
+    "gated_lockstep": gated("agent.init_at_random_ep_len=false"),
+    "gated_unscaled": gated("task.reward.scale=1.0"),
     # the gated recipe paying, in stage 3, the jaws centred on the handle (w_center): two of
     # its runs ended straddling the handle without gripping it
-    "gated_centred": ["task/reward=gated", "task.reward.w_center=5.0"],
+    "gated_centred": gated("task.reward.w_center=5.0"),
     # the gated recipe with a cost on pressing the closed front shut (w_push): the policies of
     # the runs that did not learn press it (over 50 N on 0.60-0.97 of steps, pressing.md)
-    "gated_push": ["task/reward=gated", "task.reward.w_push=40.0"],
+    "gated_push": gated("task.reward.w_push=40.0"),
     # and a cost on the policy's action beyond its clip (w_bound): under gated_push the hull
     # two-point s1 run held its pinch without opening, its vertical command's mean past the clip
-    "gated_push_bound": [
-        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
-    ],
+    "gated_push_bound": gated(
+        "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
+    ),
     # and the opening paid once the episode has grasped, grasp held or not (keep_opening): its
     # policy, made to pull, opened 15-22 cm and lost the pinch on the way, which paid nothing
-    "gated_keep": [
-        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
+    "gated_keep": gated(
+        "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
         "task.reward.keep_opening=true",
-    ],
+    ),
     # and stage 3 only with the handle site within 12 mm of the pads' line (the pad's half
     # length, 9 mm, plus 3): the seed-1 runs ended most episodes in stage 3 for 100-200
     # iterations before a grasp, and at 25 mm jaws short of the handle straddle it
-    "gated_tight": [
-        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
+    "gated_tight": gated(
+        "task.reward.w_push=40.0", "task.reward.w_bound=5.0",
         "task.reward.keep_opening=true", "task.reward.straddle_radius=0.012",
-    ],
+    ),
     # gated_tight without w_bound: costing the sampled action past the clip also costs its
     # spread, and the runs with w_bound had their action std at 0.23-0.26 by iteration 120
     # (0.45-0.77 without it)
-    "gated_tight_unbound": [
-        "task/reward=gated", "task.reward.w_push=40.0", "task.reward.keep_opening=true",
+    "gated_tight_unbound": gated(
+        "task.reward.w_push=40.0", "task.reward.keep_opening=true",
         "task.reward.straddle_radius=0.012",
-    ],
+    ),
     # gated_push with a floor under the action std: the runs that held a grasp without pulling
     # ended at a std of 0.18-0.30 (exploration.md)
-    "gated_push_floor": ["task/reward=gated", "task.reward.w_push=40.0", "agent.min_std=0.4"],
+    "gated_push_floor": gated("task.reward.w_push=40.0", "agent.min_std=0.4"),
     # gated with the opening kept from the first grasp on and paid three times as much: a pull
     # that opens 5 cm and slips then earns more a step (stage 2 or 3, 17-27, plus 30 for the
     # opening) than holding the grasp still (about 40); at w_progress 40 it earns 27-37
-    "gated_pull": [
-        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+    "gated_pull": gated(
+        "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0",
-    ],
+    ),
     # gated_pull with a floor under the action std, tried on the CoACD knob x smooth s1 run that
     # ended straddling the knob (stage 3 in 0.61 of its last 20 iterations): its std never fell
     # below 0.58, so the floor never engaged (every logged value as gated_pull's to 164)
-    "gated_pull_floor": [
-        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+    "gated_pull_floor": gated(
+        "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "agent.min_std=0.4",
-    ],
+    ),
     # gated_pull paying stage 3 the approach to t2 (w_app3 = w_hold): the knob runs that did not
     # learn straddle the knob at one finger's tip, short of t2, where stage 3 paid nothing more
-    "gated_pull_app3": [
-        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+    "gated_pull_app3": gated(
+        "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "task.reward.w_app3=2.0",
-    ],
+    ),
     # gated_pull paying the opening's increase as well as its level (w_rate = 10 x w_progress:
     # a step's pull is paid at once what the level pays for it over the next 10 steps): its knob
     # runs that did not learn held grasps that open the drawer when made to pull, yet pulled
     # slowly (forced_pull.py)
-    "gated_pull_rate": [
-        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+    "gated_pull_rate": gated(
+        "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "task.reward.w_rate=1200.0",
-    ],
+    ),
     # gated_pull_rate with w_app3 = w_hold: its CoACD knob s4 run ended straddling the knob
     # (stage 3 in 0.65 of its last episodes), the pattern w_app3 was built for
-    "gated_pull_rate_app3": [
-        "task/reward=gated", "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
+    "gated_pull_rate_app3": gated(
+        "task.reward.keep_opening=true", "task.reward.w_progress=120.0",
         "task.reward.success_bonus=60.0", "task.reward.w_rate=1200.0", "task.reward.w_app3=2.0",
-    ],
+    ),
 }  # fmt: skip
 # the kitchen's robot as every screen run had it: the arm 0.80 m below every handle (the finger
 # pulls' own placement, scene.robot.placements, came after the screen's first runs)
