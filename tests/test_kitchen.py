@@ -13,7 +13,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import run_scene
 from realikea.policies.registry import make_policy
-from realikea.policies.rollout import final_info
+from realikea.policies.rollout import episode, final_info
 from realikea.sim.scene import (
     FRONT_BODY,
     FRONT_JOINT,
@@ -226,6 +226,26 @@ def test_hook_oracle_hooks_a_finger_pull_drawer_from_below(tmp_path, part):
     info = _episode(task)
     assert info["outcome"] == "success", (info["termination"], task.opening)
     assert info["strategy"] == "hook", info["strategy"]
+
+
+@pytest.mark.parametrize(
+    "part, steps",
+    [("fp_lip_36", ["start", "tip", "slide", "catch", "pull"]),
+     ("tp_round_bar_128", ["start", "near", "catch", "close", "pull"])],
+)  # fmt: skip
+def test_hook_oracle_names_its_steps(tmp_path, part, steps):
+    """Measurements read where an episode is in the oracle's plan by name
+    (experiments/kitchen/wrist_load.py, loop_aperture.py): a lip's wedge, a bar's loop."""
+    task = _task(tmp_path, part, "drawer_w40_h20", *ORACLE)
+    policy = make_policy(task.cfg)
+    seen = []
+    for _ in episode(task, policy):
+        name = policy.waypoint(0).name
+        if not seen or seen[-1] != name:
+            seen.append(name)
+        if name == "pull":
+            break
+    assert seen == steps
 
 
 def test_hook_oracle_hooks_a_finger_pull_door_with_the_hand_turned(tmp_path):

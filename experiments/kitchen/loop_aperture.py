@@ -19,8 +19,6 @@ from realikea.policies.registry import make_policy
 from realikea.policies.rollout import episode
 from realikea.tasks.open_task import OpenTask
 
-CLOSE, PULL = 3, 4  # the loop's waypoints: closing on the bar, the first of the pull
-
 
 def loop_episode(cfg, seed: int) -> tuple[str, float, float]:
     """One episode: its outcome and the aperture at the end of the close and at the pull's
@@ -30,10 +28,11 @@ def loop_episode(cfg, seed: int) -> tuple[str, float, float]:
     closed = pulled = float("nan")
     for result in episode(task, policy):
         info = result.info  # the last step's once the loop ends
-        phase = policy.phase[0]
-        if phase == CLOSE:
+        # hook_oracle's loop: "close" on the bar, then "pull"
+        step = getattr(policy.waypoint(0), "name", "")
+        if step == "close":
             closed = task.aperture
-        elif phase >= PULL and math.isnan(pulled):  # the first step of the pull
+        elif step == "pull" and math.isnan(pulled):  # the first step of the pull
             pulled = task.aperture
     return info["outcome"], closed, pulled
 

@@ -23,7 +23,6 @@ from realikea.sim.scene import ARM_ACTUATORS, ARM_JOINTS
 from realikea.tasks.open_task import OpenTask
 
 SATURATED = 0.99  # share of an actuator's force range that counts as at its limit
-CATCH = 3  # the wedge's fourth waypoint (realikea/policies/hook_oracle.py): the pad on the edge
 
 
 def measure(config_id: str, overrides: list[str]) -> dict:
@@ -42,9 +41,11 @@ def measure(config_id: str, overrides: list[str]) -> dict:
     for result in episode(task, policy):
         info = result.info  # the last step's once the loop ends
         q = np.array([data.joint(name).qpos[0] for name in ARM_JOINTS])
-        if policy.phase[0] == CATCH:  # its last step there counts
+        # hook_oracle's: "catch" sets the pad on the edge
+        step = getattr(policy.waypoint(0), "name", "")
+        if step == "catch":  # its last step there counts
             margin = np.minimum(q - lo, hi - q)
-        if policy.phase[0] > CATCH:
+        if step == "pull":
             pulling += 1
             force = np.abs([data.actuator(name).force[0] for name in ARM_ACTUATORS])
             saturated.update(int(j) + 1 for j in np.flatnonzero(force >= SATURATED * limit))

@@ -196,10 +196,10 @@ class HookOracle(WaypointPolicy):
             start = world(c.tcp - p.standoff * c.approach)
             near = world(c.tcp - p.clearance * c.approach)
             steps = [
-                Waypoint(start, 0.0, OPEN, tolerance=0.01, timeout=60),
-                Waypoint(near, 0.0, OPEN, tolerance=0.003, timeout=25),
-                Waypoint(at, 0.0, OPEN, tolerance=0.002, hold=2, timeout=15),
-                Waypoint(at, 0.0, c.grip, tolerance=1.0, hold=9, timeout=10),
+                Waypoint(start, 0.0, OPEN, tolerance=0.01, timeout=60, name="start"),
+                Waypoint(near, 0.0, OPEN, tolerance=0.003, timeout=25, name="near"),
+                Waypoint(at, 0.0, OPEN, tolerance=0.002, hold=2, timeout=15, name="catch"),
+                Waypoint(at, 0.0, c.grip, tolerance=1.0, hold=9, timeout=10, name="close"),
             ]
         else:
             off = (p.clearance + p.wedge_preload) * c.away
@@ -209,10 +209,10 @@ class HookOracle(WaypointPolicy):
             # tipping down works on the way; tipping up only once there (the wrist's joint 5)
             level = 0.0 if c.pitch > 0 else c.pitch
             steps = [
-                Waypoint(start, level, OPEN, tolerance=0.01, timeout=60),
-                Waypoint(start, c.pitch, OPEN, tolerance=0.01, hold=turn, timeout=turn + 10),
-                Waypoint(slid, c.pitch, OPEN, tolerance=0.003, timeout=25),
-                Waypoint(at, c.pitch, OPEN, tolerance=0.002, hold=2, timeout=10),
+                Waypoint(start, level, OPEN, tolerance=0.01, timeout=60, name="start"),
+                Waypoint(start, c.pitch, OPEN, 0.01, hold=turn, timeout=turn + 10, name="tip"),
+                Waypoint(slid, c.pitch, OPEN, tolerance=0.003, timeout=25, name="slide"),
+                Waypoint(at, c.pitch, OPEN, tolerance=0.002, hold=2, timeout=10, name="catch"),
             ]
         held = world(c.held)
         path = Pull(p.pull_distance, p.pull_angle, wrist).path(held, facts)

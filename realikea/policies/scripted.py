@@ -33,7 +33,8 @@ class Waypoint:
     """Hold the TCP at `pos` (world) with `pitch` and gripper command `grip`.
 
     The waypoint is done once the TCP is within `tolerance` (m) and `hold` more steps have
-    passed, or after `timeout` steps whatever happens.
+    passed, or after `timeout` steps whatever happens. `name` says what it is for (e.g.
+    "catch", "pull"), for measurements that read where an episode is in its plan.
     """
 
     pos: np.ndarray
@@ -42,6 +43,7 @@ class Waypoint:
     tolerance: float = 0.005
     hold: int = 0
     timeout: int = 40
+    name: str = ""
 
 
 @dataclass(frozen=True)
@@ -113,6 +115,11 @@ class WaypointPolicy(PerEnvPolicy):
                     print(f"warning: {self.name} plans no motion on {note}", file=sys.stderr)
             self.phase[i] = self.count[i] = self.reached[i] = 0
 
+    def waypoint(self, i: int) -> Waypoint | None:
+        """Env `i`'s current waypoint (None while its episode has no plan)."""
+        plan = self.plans.get(i)
+        return plan[self.phase[i]] if plan else None
+
     def _act_one(self, i: int, obs: np.ndarray) -> np.ndarray:
         plan, facts = self.plans[i], self.facts[i]
         if not plan:  # nothing to do on this part: hold still, gripper open
@@ -174,11 +181,12 @@ def held_path(
 
 
 def follow(path: list[tuple[np.ndarray, float]], pitch: float, grip: float) -> list[Waypoint]:
-    """Waypoints along an opening path: each passed once within 1 cm, the last held for good."""
+    """Waypoints along an opening path (named "pull"): each passed once within 1 cm, the last
+    held for good."""
     *through, (end, end_turn) = path
     return [
-        *(Waypoint(p, pitch + t, grip, tolerance=0.01, timeout=10) for p, t in through),
-        Waypoint(end, pitch + end_turn, grip, tolerance=0.0, timeout=10**9),
+        *(Waypoint(p, pitch + t, grip, 0.01, timeout=10, name="pull") for p, t in through),
+        Waypoint(end, pitch + end_turn, grip, tolerance=0.0, timeout=10**9, name="pull"),
     ]
 
 
