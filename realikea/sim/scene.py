@@ -242,10 +242,13 @@ def _platform(spec: mujoco.MjSpec, base: np.ndarray) -> None:
     )  # fmt: skip
 
 
-def build_scene(config_mjcf: Path, cfg: DictConfig, category: str | None = None) -> mujoco.MjModel:
+def build_scene(
+    config_mjcf: Path, cfg: DictConfig, place: Placement | None = None
+) -> mujoco.MjModel:
     """Compile the robot (cfg.gripper) in front of one configuration (cfg.resistance applied to
     its front joint) in cfg.scene, with the contact model of cfg.contact and cfg.sim's physics;
-    `category` (the part's) picks the kitchen robot's placement (`placement`)."""
+    `place` (the part's `placement`; by default the one naming no category) sets the kitchen
+    robot's height below the handle."""
     config_mjcf = Path(config_mjcf)
     if not config_mjcf.is_file():
         raise RealIkeaError(f"MJCF not found: {config_mjcf}")
@@ -267,7 +270,8 @@ def build_scene(config_mjcf: Path, cfg: DictConfig, category: str | None = None)
     spec.attach(cabinet, prefix=PREFIX, frame=frame)
     front = closed_front(config_mjcf)
     handle = front.handle + [0.0, 0.0, height]  # in the world
-    base = robot_base(scene, handle, cfg.sim, placement(cfg, category, kind).handle_above_base)
+    place = placement(cfg, None, kind) if place is None else place
+    base = robot_base(scene, handle, cfg.sim, place.handle_above_base)
     spec.body("link0").pos = base
     _platform(spec, base)
     eye = handle + np.array([1.35, -1.3, 0.95])  # the overview camera, aimed at the handle

@@ -112,9 +112,9 @@ class OpenTask:
         self.config_id = Path(config_mjcf).parent.name
         self.part, self.base = _catalog_entries(self.config_id)
         _check_placements(cfg)
-        self.model = build_scene(Path(config_mjcf), cfg, self.part.category)
-        self.data = mujoco.MjData(self.model)
         place = placement(cfg, self.part.category, self.base.kind)
+        self.model = build_scene(Path(config_mjcf), cfg, place)
+        self.data = mujoco.MjData(self.model)
         roll = _hand_roll(self.model, self.base.mount_roll_deg, place.hand_turned)
         self.nominal = rolled_nominal(roll)
         self.home = place.home
