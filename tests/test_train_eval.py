@@ -20,7 +20,7 @@ from realikea.eval.setup import trained_cell
 from realikea.eval.stats import wilson
 from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
-from realikea.reports.generalist import evaluate_grid, read_cells, success_table
+from realikea.reports.generalist import evaluate_grid, pooled, read_cells, success_table
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 from realikea.training.train import runner_config, train
@@ -329,6 +329,18 @@ def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one():
     (flap,) = [x for x in lines if x.startswith("| flap | knob |")]
     assert door.endswith("| pinch 0.60 | slip 0.56 |")
     assert flap.endswith("| pinch 0.60 | – |")  # evaluated before the failure modes existed
+
+
+def test_pooling_counts_every_cell_of_a_mode_or_of_one_kind():
+    cells = {
+        ("door", "knob", "high"): {"episodes": 50, "success": 0.2},
+        ("door", "two_point", "high"): {"episodes": 50, "success": 0.4},
+        ("flap", "knob", "high"): {"episodes": 20, "success": 1.0},
+        ("flap", "knob", "smooth"): {"episodes": 50, "success": 1.0},
+    }
+    assert pooled(cells, "high") == (50, 120)
+    assert pooled(cells, "high", "door") == (30, 100)
+    assert pooled(cells, "high", "drawer") == (0, 0)
 
 
 def test_a_slim_checkpoint_acts_like_its_source(run, tmp_path):

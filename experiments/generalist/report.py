@@ -3,9 +3,11 @@ experiments/generalist/results/table.md.
 
     python experiments/generalist/report.py
 
-Success per kind x category x mode with Wilson 95 % intervals for each grid found (coacd/ and
-hull/: 1,500 iterations; coacd_2500/: the CoACD run continued to 2,500), then CoACD − hull and
-2,500 − 1,500 iterations per cell and pooled over the cells with Newcombe's interval.
+Success per kind x category x mode with Wilson 95 % intervals for each grid found, pooled per
+kind and over every cell, then the named differences per cell and pooled with Newcombe's
+interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
+the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
+latter also on its own hull geometry, hull_high/s<seed>_own/).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from pathlib import Path
 from realikea.eval.stats import describe, diff_interval, significant
 from realikea.files import atomic_write_text
 from realikea.reports.generalist import (
+    KINDS,
     MODES,
     difference_markdown,
     pooled,
@@ -32,13 +35,27 @@ GRIDS = {  # folder -> what was trained
     "coacd_2500": "CoACD, w_open2 = 2, continued to 2,500 iterations",
     "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
     "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
+    **{
+        f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
+        for recipe, what in (
+            ("default", "the default recipe (`python train.py`: CoACD, normal, `gated`)"),
+            ("hull_high", "the design card's `python train.py collision=hull resistance=high`"),
+        )
+        for seed in (0, 1)
+        for own in (("", "_own") if recipe == "hull_high" else ("",))
+    },
 }
 COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
     ("coacd", "hull", "CoACD vs hull, w_open2 = 2", ("CoACD", "hull")),
     ("coacd_open2_0", "hull_open2_0", "CoACD vs hull, w_open2 = 0", ("CoACD", "hull")),
     ("hull_open2_0", "coacd", "each source with its better bonus", ("hull 0", "CoACD 2")),
     ("coacd_2500", "coacd", "2,500 vs 1,500 iterations (CoACD)", ("2,500 its", "1,500 its")),
-)
+    # named before the gated runs finished: what the reward changed, seed 0 of each
+    ("default/s0", "coacd", "the gated default vs the appendix generalist (CoACD, normal)",
+     ("gated", "appendix")),
+    ("hull_high/s0_own", "hull_high/s0", "the design card's policy on its hull vs on CoACD",
+     ("own hull", "CoACD")),
+)  # fmt: skip
 
 
 def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> list[str]:
@@ -72,7 +89,12 @@ def main() -> None:
         for mode in MODES:
             k, n = pooled(cells, mode)
             if n:
-                lines.append(f"- all cells, {mode}: {describe(k, n)}")
+                kinds = ", ".join(
+                    f"{kind} {describe(*pooled(cells, mode, kind))}"
+                    for kind in KINDS
+                    if pooled(cells, mode, kind)[1]
+                )
+                lines.append(f"- all cells, {mode}: {describe(k, n)}; per kind: {kinds}")
         lines.append("")
     for a, b, title, names in COMPARISONS:
         if a in grids and b in grids:

@@ -162,7 +162,7 @@ def difference_markdown(cells: dict, other: dict, names=("CoACD", "hull")) -> st
     return "\n".join(lines) + "\n"
 
 
-def pooled(cells: dict, mode: str) -> tuple[int, int]:
-    """Successes and episodes over every cell of one mode."""
-    counts = [_count(r) for (_, _, m), r in cells.items() if m == mode]
+def pooled(cells: dict, mode: str, kind: str | None = None) -> tuple[int, int]:
+    """Successes and episodes over every cell of one mode (of one base kind if given)."""
+    counts = [_count(r) for (k, _, m), r in cells.items() if m == mode and kind in (None, k)]
     return sum(k for k, _ in counts), sum(n for _, n in counts)
