@@ -85,3 +85,21 @@ def test_a_run_whose_outcome_is_decided_is_interrupted_and_kept(tmp_path, monkey
     assert "stopped gated_hull_knob_smooth_s0 early" in capsys.readouterr().out
     assert (run_dir / "closed").is_file() and (run_dir / queue.STOPPED_EARLY).is_file()
     assert q.wall_times(RUN)[0] < 30 and q.finished(RUN)
+
+
+def test_a_run_kept_by_another_driver_while_this_one_waited_is_not_kept_again(tmp_path, capsys):
+    """Two drivers over one queue: this one listed the run as not kept, the other kept it
+    before this one reached it; keeping it again would rewrite its committed checkpoint."""
+    kept: list[str] = []
+    asked: list[str] = []
+
+    def kept_by_other(run: QueuedRun) -> bool:  # not kept when listed, kept from then on
+        asked.append(run.name)
+        return asked.count(run.name) > 1
+
+    q = _queue(tmp_path, kept)
+    q.kept = kept_by_other
+    (tmp_path / "work" / RUN.name).mkdir(parents=True)
+    (tmp_path / "work" / RUN.name / "model_399.pt").write_bytes(b"")  # finished
+    assert q.run_all([RUN], jobs=1) == 0 and kept == []
+    assert f"skip {RUN.name}: kept meanwhile" in capsys.readouterr().out

@@ -5,7 +5,8 @@ A run trains in WORK/NAME (git-ignored). It is finished once WORK/NAME holds its
 then kept: `keep(run, seconds)` copies what the experiment commits. A stopped run (checkpoints,
 no `done` file) continues from its last checkpoint (`train.resume=`) for the iterations it
 still lacks, appending to its metrics.csv. A run whose training process is alive (WORK/NAME.pid)
-is left to it, so two drivers never train the same run. Each launch's wall time is written to
+is left to it, so two drivers never train the same run, and one kept meanwhile by another driver
+is not kept again. Each launch's wall time is written to
 WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts. A run whose
 outcome is decided before its last iteration (`stop_early(run)`, checked at every poll) is
 interrupted (SIGINT: the trainer closes its env pool), marked finished (WORK/NAME/STOPPED_EARLY)
@@ -125,6 +126,9 @@ class RunQueue:
         while queue or active:
             while queue and len(active) < jobs:
                 run = queue.pop(0)
+                if self.kept(run):  # by another driver while this one waited
+                    print(f"skip {run.name}: kept meanwhile", flush=True)
+                    continue
                 if self.running(run):
                     print(f"skip {run.name}: being trained by another process", flush=True)
                     continue
