@@ -1,6 +1,6 @@
 """Train the generalists on the gated reward, two at a time, resumable, and keep each
 finished run in experiments/generalist/results/<recipe>/s<seed>/ (slim last checkpoint,
-metrics, the launches' wall times, the Hydra config).
+metrics, the launches' wall times, the Hydra config, the learning curve).
 
     python experiments/generalist/train_gated.py                      # every run not yet kept
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
@@ -15,6 +15,7 @@ checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its
 from __future__ import annotations
 
 import argparse
+import subprocess
 import sys
 from pathlib import Path
 
@@ -44,7 +45,12 @@ def last_checkpoint(run: QueuedRun) -> str:
 
 
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
-    return keep_run(WORK / run.name, kept_dir(run), seconds)
+    """Keep the run (`keep_run`) and plot its learning curve beside it."""
+    kept = keep_run(WORK / run.name, kept_dir(run), seconds)
+    plot = WORKSPACE / "experiments/tools/plot_learning_curve.py"
+    curve = kept / "learning_curve.png"
+    subprocess.run([sys.executable, str(plot), str(kept), "--out", str(curve)], check=True)
+    return kept
 
 
 def kept(run: QueuedRun) -> bool:
