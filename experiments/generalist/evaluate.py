@@ -1,7 +1,7 @@
 """Evaluate a checkpoint on the held-out parts over kind x category x resistance mode.
 
-    python experiments/generalist/evaluate.py CHECKPOINT NAME [--episodes 50] [--seed 1000] \
-        [--modes smooth normal high] [-- OVERRIDES...]
+    python experiments/generalist/evaluate.py CHECKPOINT NAME [OVERRIDES...] [--episodes 50] \
+        [--seed 1000] [--modes smooth normal high]
 
 Every cell is evaluated with the eval defaults (collision=coacd: the faithful geometry, whatever
 the checkpoint was trained on) unless OVERRIDES say otherwise (e.g. collision=hull).

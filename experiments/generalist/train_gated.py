@@ -9,7 +9,7 @@ Recipes: `default` is `python train.py` (CoACD, normal, every category and kind,
 iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`.
 Each run gets one env worker (two side by side on the 2 cores). Then evaluate each kept
 checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its own geometry:
-`evaluate.py CHECKPOINT hull_high/s0_own collision=hull`).
+`evaluate.py CHECKPOINT hull_high/s0_own collision=hull --modes high`).
 """
 
 from __future__ import annotations
