@@ -47,9 +47,8 @@ def last_checkpoint(run: QueuedRun) -> str:
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
     """Keep the run (`keep_run`) and plot its learning curve beside it."""
     kept = keep_run(WORK / run.name, kept_dir(run), seconds)
-    plot = WORKSPACE / "experiments/tools/plot_learning_curve.py"
-    curve = kept / "learning_curve.png"
-    subprocess.run([sys.executable, str(plot), str(kept), "--out", str(curve)], check=True)
+    plot = WORKSPACE / "experiments/tools/plot_learning_curve.py"  # RUN_DIR/learning_curve.png
+    subprocess.run([sys.executable, str(plot), str(kept)], check=True)
     return kept
 
 

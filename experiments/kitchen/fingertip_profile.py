@@ -27,6 +27,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pybullet_data
+import trimesh
 
 from realikea.config import load_config
 from realikea.sim.robot import FINGER_BODIES, GripperModel, robot_xml
@@ -56,18 +57,9 @@ def load_obj(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     return np.array(vertices), {k: np.array(v) for k, v in faces.items()}
 
 
-def section(tris: np.ndarray, z: float) -> np.ndarray:
-    """Segments (m, 2, 3) where the triangles (k, 3, 3) cross the plane at height z."""
-    segments = []
-    for tri in tris:
-        h = tri[:, 2] - z
-        points = []
-        for i, j in ((0, 1), (1, 2), (2, 0)):
-            if (h[i] < 0) != (h[j] < 0):
-                points.append(tri[i] + (tri[j] - tri[i]) * h[i] / (h[i] - h[j]))
-        if len(points) == 2:
-            segments.append(points)
-    return np.array(segments).reshape(-1, 2, 3)
+def section(mesh: trimesh.Trimesh, z: float) -> np.ndarray:
+    """Segments (m, 2, 3) where the mesh crosses the plane at height z."""
+    return trimesh.intersections.mesh_plane(mesh, [0.0, 0.0, 1.0], [0.0, 0.0, z])
 
 
 def face_y(segments: np.ndarray, x: float, y_below: float) -> float:
@@ -122,7 +114,7 @@ def main() -> None:
 
     mount, flange = urdf_checks()
     vertices, faces = load_obj(MESH)
-    tris = np.concatenate([vertices[f] for f in faces.values()])
+    whole = trimesh.Trimesh(vertices, np.concatenate(list(faces.values())), process=False)
     pad_v = vertices[np.unique(faces[PAD_MATERIAL])]
     tip = vertices[:, 2].max()
     sim_mount, boxes = sim_boxes()
@@ -173,7 +165,7 @@ def main() -> None:
     print("|---:|---|---:|---:|---|---:|---:|---:|---:|")
     for d in args.d:
         dm = max(d * 1e-3, TIP_SLICE)
-        seg = section(tris, tip - dm).reshape(-1, 3)
+        seg = section(whole, tip - dm).reshape(-1, 3)
         r_in, r_out = seg[:, 1].min() * 1e3, seg[:, 1].max() * 1e3
         r_w = np.ptp(seg[:, 0]) * 1e3
         z = sim_tip - dm
@@ -194,10 +186,12 @@ def main() -> None:
     )
     print()
     print("real tip profile (mm from the tip: value)")
-    pad_tris = vertices[faces[PAD_MATERIAL]]
-    white = np.concatenate([vertices[f] for k, f in faces.items() if k != PAD_MATERIAL])
+    pad = trimesh.Trimesh(vertices, faces[PAD_MATERIAL], process=False)
+    white = trimesh.Trimesh(
+        vertices, np.concatenate([f for k, f in faces.items() if k != PAD_MATERIAL]), process=False
+    )
     for d in (0.5, 5, 15):
-        p, w = (section(t, tip - d * 1e-3).reshape(-1, 3)[:, 1] * 1e3 for t in (pad_tris, white))
+        p, w = (section(t, tip - d * 1e-3).reshape(-1, 3)[:, 1] * 1e3 for t in (pad, white))
         print(
             f"- d = {d:g}: dark pad y {p.min():.1f}..{p.max():.1f} ({np.ptp(p):.1f} thick), ",
             end="",
@@ -205,7 +199,7 @@ def main() -> None:
         print(f"white finger behind it y {w.min():.1f}..{w.max():.1f} ({np.ptp(w):.1f} thick)")
     widths, outers, groove, flat = [], [], [], []
     for d in (0.05, 0.1, 0.2, 0.5, 1, 2, 3, 5, 8, 9, 12):
-        seg = section(tris, tip - d * 1e-3)
+        seg = section(whole, tip - d * 1e-3)
         pts = seg.reshape(-1, 3)
         widths.append(f"{d:g}: {np.ptp(pts[:, 0]) * 1e3:.1f}")
         outers.append(f"{d:g}: {pts[:, 1].min() * 1e3:.1f}..{pts[:, 1].max() * 1e3:.1f}")
@@ -215,7 +209,7 @@ def main() -> None:
     print(f"- inner..outer y: {', '.join(outers)}")
     print(f"- pad face y at x = 0 (centre line): {', '.join(groove)}")
     print(f"- pad face y at x = 4 mm: {', '.join(flat)}")
-    seg = section(tris, tip - 5e-3)
+    seg = section(whole, tip - 5e-3)
     across = [f"{x:g}: {face_y(seg, x * 1e-3, 5e-3) * 1e3:.2f}" for x in np.arange(-3, 3.1, 0.5)]
     print(f"- pad face y across the centre line at d = 5 (x mm: y): {', '.join(across)}")
 
