@@ -72,6 +72,9 @@ def main() -> None:
     if len(set(names)) != len(names):
         parser.error(f"--run names must differ, got {names}")
     runs = {name: shlex.split(overrides) for name, overrides in args.run}
+    taken = [name for name in runs if (WORKSPACE / "outputs" / "bench_train" / name).exists()]
+    if taken:  # train.py appends to a run's metrics.csv, which would mix two launches' rows
+        parser.error(f"outputs/bench_train/ already holds {taken}: remove them or pick new names")
     start, procs, walls = time.perf_counter(), {}, {}
     for name, overrides in runs.items():
         run = WORKSPACE / "outputs" / "bench_train" / name

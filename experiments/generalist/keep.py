@@ -12,13 +12,12 @@ run (`realikea.training.metrics.join_launches`).
 from __future__ import annotations
 
 import argparse
-import subprocess
-import sys
 from pathlib import Path
 
 from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import slim_checkpoint
+from realikea.reports.learning_curve import plot_learning_curve
 from realikea.training.metrics import join_launches
 
 HERE = Path(__file__).resolve().parent
@@ -40,9 +39,7 @@ def main() -> None:
         earlier = (args.continues / "metrics.csv").read_text().splitlines()
         rows = join_launches(earlier + rows[1:])
     atomic_write_text(out / "metrics.csv", "\n".join(rows) + "\n")
-    plot = HERE.parent / "tools" / "plot_learning_curve.py"
-    curve = out / "learning_curve.png"
-    subprocess.run([sys.executable, str(plot), str(out), "--out", str(curve)], check=True)
+    print(f"learning curve: {plot_learning_curve(out)}")
 
 
 if __name__ == "__main__":

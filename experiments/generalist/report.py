@@ -89,10 +89,9 @@ def main() -> None:
         for mode in MODES:
             k, n = pooled(cells, mode)
             if n:
+                per_kind = {kind: pooled(cells, mode, kind) for kind in KINDS}
                 kinds = ", ".join(
-                    f"{kind} {describe(*pooled(cells, mode, kind))}"
-                    for kind in KINDS
-                    if pooled(cells, mode, kind)[1]
+                    f"{kind} {describe(*kn)}" for kind, kn in per_kind.items() if kn[1]
                 )
                 lines.append(f"- all cells, {mode}: {describe(k, n)}; per kind: {kinds}")
         lines.append("")

@@ -15,11 +15,11 @@ checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its
 from __future__ import annotations
 
 import argparse
-import subprocess
 import sys
 from pathlib import Path
 
 from realikea.files import WORKSPACE
+from realikea.reports.learning_curve import plot_learning_curve
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 RESULTS = WORKSPACE / "experiments/generalist/results"
@@ -47,8 +47,7 @@ def last_checkpoint(run: QueuedRun) -> str:
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
     """Keep the run (`keep_run`) and plot its learning curve beside it."""
     kept = keep_run(WORK / run.name, kept_dir(run), seconds)
-    plot = WORKSPACE / "experiments/tools/plot_learning_curve.py"  # RUN_DIR/learning_curve.png
-    subprocess.run([sys.executable, str(plot), str(kept)], check=True)
+    plot_learning_curve(kept)
     return kept
 
 

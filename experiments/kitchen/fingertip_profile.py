@@ -21,6 +21,7 @@ width; real and ours) and the real tip's rounding and pad-face grooves.
 from __future__ import annotations
 
 import argparse
+import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -39,22 +40,14 @@ TIP_SLICE = 0.2e-3  # m: "d = 0" is sliced this far in (the end face is a plane 
 DEFAULT_D = (0, 1, 2, 4, 6, 8, 10, 12, 15, 18, 21, 25, 30)
 
 
-def load_obj(path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Vertices (n, 3) and triangles per material (polygons fanned)."""
-    vertices, faces, material = [], {}, None
-    for line in path.read_text().splitlines():
-        tok = line.split()
-        if not tok:
-            continue
-        if tok[0] == "v":
-            vertices.append([float(t) for t in tok[1:4]])
-        elif tok[0] == "usemtl":
-            material = tok[1]
-        elif tok[0] == "f":
-            idx = [int(t.split("/")[0]) - 1 for t in tok[1:]]
-            tris = [(idx[0], idx[i], idx[i + 1]) for i in range(1, len(idx) - 1)]
-            faces.setdefault(material, []).extend(tris)
-    return np.array(vertices), {k: np.array(v) for k, v in faces.items()}
+def load_finger(path: Path) -> tuple[trimesh.Trimesh, trimesh.Trimesh]:
+    """The dark pad and the white finger, the OBJ's two parts (split by material)."""
+    with warnings.catch_warnings():  # the OBJ's UV-less materials make trimesh warn about NaNs
+        warnings.simplefilter("ignore", RuntimeWarning)
+        parts = trimesh.load(path, force="scene", process=False, group_material=True).geometry
+    pad = parts.pop(PAD_MATERIAL)
+    (white,) = parts.values()
+    return pad, white
 
 
 def section(mesh: trimesh.Trimesh, z: float) -> np.ndarray:
@@ -113,9 +106,9 @@ def main() -> None:
     args = parser.parse_args()
 
     mount, flange = urdf_checks()
-    vertices, faces = load_obj(MESH)
-    whole = trimesh.Trimesh(vertices, np.concatenate(list(faces.values())), process=False)
-    pad_v = vertices[np.unique(faces[PAD_MATERIAL])]
+    pad, white = load_finger(MESH)
+    whole = trimesh.util.concatenate([pad, white])
+    vertices, pad_v = whole.vertices, pad.vertices
     tip = vertices[:, 2].max()
     sim_mount, boxes = sim_boxes()
     sim_tip = max(hi[2] for _, _, hi in boxes)
@@ -186,10 +179,6 @@ def main() -> None:
     )
     print()
     print("real tip profile (mm from the tip: value)")
-    pad = trimesh.Trimesh(vertices, faces[PAD_MATERIAL], process=False)
-    white = trimesh.Trimesh(
-        vertices, np.concatenate([f for k, f in faces.items() if k != PAD_MATERIAL]), process=False
-    )
     for d in (0.5, 5, 15):
         p, w = (section(t, tip - d * 1e-3).reshape(-1, 3)[:, 1] * 1e3 for t in (pad, white))
         print(

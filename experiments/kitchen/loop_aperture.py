@@ -29,7 +29,7 @@ def loop_episode(cfg, seed: int) -> tuple[str, float, float]:
     for result in episode(task, policy):
         info = result.info  # the last step's once the loop ends
         # hook_oracle's loop: "close" on the bar, then "pull"
-        step = getattr(policy.waypoint(0), "name", "")
+        step = policy.step(0)
         if step == "close":
             closed = task.aperture
         elif step == "pull" and math.isnan(pulled):  # the first step of the pull

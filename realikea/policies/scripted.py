@@ -115,10 +115,10 @@ class WaypointPolicy(PerEnvPolicy):
                     print(f"warning: {self.name} plans no motion on {note}", file=sys.stderr)
             self.phase[i] = self.count[i] = self.reached[i] = 0
 
-    def waypoint(self, i: int) -> Waypoint | None:
-        """Env `i`'s current waypoint (None while its episode has no plan)."""
+    def step(self, i: int) -> str:
+        """The name of env `i`'s current waypoint ("" while its episode has no plan)."""
         plan = self.plans.get(i)
-        return plan[self.phase[i]] if plan else None
+        return plan[self.phase[i]].name if plan else ""
 
     def _act_one(self, i: int, obs: np.ndarray) -> np.ndarray:
         plan, facts = self.plans[i], self.facts[i]
