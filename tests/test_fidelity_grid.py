@@ -115,7 +115,7 @@ def test_a_kept_runs_eval_commands_name_the_checkpoint_git_holds():
     kept = fidelity_grid.kept_eval(report, fidelity_grid.KEPT / "hull_high_knob_s0")
     assert kept["modes"]["high"]["command"] == (
         "realikea eval policy=checkpoint "
-        "policy.path=experiments/fidelity_ablation/grid/hull_high_knob_s0/model_899.pt "
+        "policy.path=experiments/fidelity_ablation/results/grid/hull_high_knob_s0/model_899.pt "
         "resistance=high episodes=50"
     )
 
@@ -194,7 +194,7 @@ def test_the_squeeze_check_closes_only_what_the_policy_closes_and_reads_the_runs
     ]  # fmt: skip
 
 
-GRID_RUN = WORKSPACE / "experiments/fidelity_ablation/grid/coacd_high_two_point_s0"
+GRID_RUN = WORKSPACE / "experiments/fidelity_ablation/results/grid/coacd_high_two_point_s0"
 
 
 def test_a_committed_grid_checkpoint_evaluates_on_the_reward_it_was_trained_on():

@@ -44,7 +44,7 @@ def test_policies_are_scripted_names_or_checkpoints(tmp_path):
         map_policy("teleop")
     with pytest.raises(RealIkeaError, match="not found"):
         map_policy(f"coacd={tmp_path / 'missing.pt'}")
-    kept = "experiments/fidelity_ablation/grid/paper_coacd_high_two_point_s0/model_1300.pt"
+    kept = "experiments/fidelity_ablation/results/grid/paper_coacd_high_two_point_s0/model_1300.pt"
     # a checkpoint in the repository is named from its root, so cells.jsonl runs in any clone
     assert map_policy(f"coacd={WORKSPACE / kept}").overrides[1] == f"policy.path={kept}"
 

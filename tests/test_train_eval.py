@@ -202,8 +202,8 @@ def test_sweep_evaluates_every_checkpoint_under_three_modes(run, capsys):
 
 
 def test_a_committed_table_names_a_run_of_the_checkout_relative_to_it():
-    run = WORKSPACE / "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
-    assert shown_path(run) == "experiments/fidelity_ablation/grid/paper_hull_high_two_point_s0"
+    name = "experiments/fidelity_ablation/results/grid/paper_hull_high_two_point_s0"
+    assert shown_path(WORKSPACE / name) == name
     assert shown_path(Path("/elsewhere/run")) == "/elsewhere/run"
 
 

@@ -1,5 +1,5 @@
 """Run the fidelity grid (realikea/conf/experiment/fidelity_grid.yaml) two runs at a time and
-keep each finished run in experiments/fidelity_ablation/grid/NAME/ (realikea/training/
+keep each finished run in experiments/fidelity_ablation/results/grid/NAME/ (realikea/training/
 fidelity_grid.py says what a run keeps; realikea/training/queue.py how runs resume).
 
     python experiments/fidelity_ablation/grid.py                     # every run not yet kept

@@ -3,8 +3,8 @@ baselines and trained checkpoints on held-out drawers in high resistance.
 
     python experiments/fidelity_ablation/phase_map.py                      # the baselines
     python experiments/fidelity_ablation/phase_map.py --policies \
-        coacd=experiments/fidelity_ablation/grid/coacd_high_two_point_s0/model_899.pt \
-        hull=experiments/fidelity_ablation/grid/hull_high_two_point_s0/model_899.pt \
+        coacd=experiments/fidelity_ablation/results/grid/coacd_high_two_point_s0/model_899.pt \
+        hull=experiments/fidelity_ablation/results/grid/hull_high_two_point_s0/model_899.pt \
         --categories two_point
 
 Appends one JSON line per cell to RESULTS (cells already there are skipped: an interrupted map

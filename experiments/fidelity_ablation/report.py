@@ -14,7 +14,7 @@ frames) of each strategy label into RUN/videos/; the report shows every RUN/vide
 finds and names the MP4 beside it. Each `--phase-maps` directory (written by phase_map.py) adds
 its heat maps and CoACD − hull differences. The committed report:
 
-    python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/grid \
+    python experiments/fidelity_ablation/report.py experiments/fidelity_ablation/results/grid \
         --phase-maps experiments/fidelity_ablation/results/phase_map{,_paper,_paper_s1,_paper_s2}
 """
 

@@ -33,7 +33,7 @@ def window(series, tag: str, first: int, last: int) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
-        "--grid", type=Path, default=WORKSPACE / "experiments/fidelity_ablation/grid"
+        "--grid", type=Path, default=WORKSPACE / "experiments/fidelity_ablation/results/grid"
     )
     args = parser.parse_args()
     runs = sorted(p for p in args.grid.iterdir()

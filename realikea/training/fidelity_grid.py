@@ -22,7 +22,7 @@ from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE, shown_path
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
-KEPT = WORKSPACE / "experiments/fidelity_ablation/grid"
+KEPT = WORKSPACE / "experiments/fidelity_ablation/results/grid"
 WORK = WORKSPACE / "outputs/fidelity_grid"
 AXES = {  # the grid's axes as the options name them, in the order the runs go
     "collisions": ("coacd", "hull"),
