@@ -28,6 +28,8 @@ import numpy as np
 from realikea.files import WORKSPACE
 from realikea.training.metrics import read_metrics
 
+RUNS = WORKSPACE / "outputs" / "bench_train"  # one folder per named run
+
 
 def time_to_target(series, tag: str, target: float, window: int):
     """(iteration, seconds of training to it) of the first window mean >= target, or None."""
@@ -43,7 +45,7 @@ def time_to_target(series, tag: str, target: float, window: int):
 
 def row(name: str, overrides: list[str], wall: float, args: argparse.Namespace) -> str:
     """The markdown row of one finished run."""
-    series = read_metrics(WORKSPACE / "outputs" / "bench_train" / name)
+    series = read_metrics(RUNS / name)
     spent = sum(series["Perf/collection_time"][1]) + sum(series["Perf/learning_time"][1])
     startup = wall - spent
     last = series["Perf/collection_time"][0][-1]
@@ -72,13 +74,18 @@ def main() -> None:
     if len(set(names)) != len(names):
         parser.error(f"--run names must differ, got {names}")
     runs = {name: shlex.split(overrides) for name, overrides in args.run}
-    taken = [name for name in runs if (WORKSPACE / "outputs" / "bench_train" / name).exists()]
+    taken = [name for name in runs if (RUNS / name).exists()]
     if taken:  # train.py appends to a run's metrics.csv, which would mix two launches' rows
         parser.error(f"outputs/bench_train/ already holds {taken}: remove them or pick new names")
     start, procs, walls = time.perf_counter(), {}, {}
     for name, overrides in runs.items():
-        run = WORKSPACE / "outputs" / "bench_train" / name
-        command = [sys.executable, "train.py", *overrides, "logger=none", f"hydra.run.dir={run}"]
+        command = [
+            sys.executable,
+            "train.py",
+            *overrides,
+            "logger=none",
+            f"hydra.run.dir={RUNS / name}",
+        ]
         procs[name] = subprocess.Popen(command, cwd=WORKSPACE)
     while len(walls) < len(procs):
         for name, proc in procs.items():
