@@ -36,6 +36,28 @@ def load_model(mjcf: Path) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_path(str(mjcf))
 
 
+def group_turns(labels: list[tuple], weights) -> list[tuple]:
+    """The draw's turns over its groups: each group once, in order, then again for every extra
+    turn `weights` gives it ({door: 2}: a group whose label holds `door` takes two turns for
+    every one of the others; a label's weight is the product of its values')."""
+    weights = dict(weights or {})
+    values = {v for label in labels for v in label}
+    bad = {
+        k: w
+        for k, w in weights.items()
+        if k not in values or not isinstance(w, int) or isinstance(w, bool) or w < 1
+    }
+    if bad:
+        raise RealIkeaError(
+            f"asset.group_weights: {bad} is not a whole number >= 1 on a group value of "
+            f"asset.stratify ({sorted(values)})"
+        )
+    count = {label: int(np.prod([weights.get(v, 1) for v in label])) for label in labels}
+    return [
+        label for r in range(max(count.values(), default=1)) for label in labels if count[label] > r
+    ]
+
+
 def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     """MJCFs of `n` configurations drawn from the `asset` group (built if missing).
 
@@ -44,8 +66,9 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     (train, test or all; all for a config written before the split existed). With
     `asset.stratify` (e.g. [category, kind]) the draw takes its groups in turn, so each
     category × kind gets about n / groups configurations however few the catalog has (one
-    flap base among thirteen); with one group it is the plain draw. Every consumer (training
-    pool, evaluation, table, video) draws through here.
+    flap base among thirteen); with one group it is the plain draw. `asset.group_weights`
+    gives some groups more turns (`group_turns`). Every consumer (training pool, evaluation,
+    table, video) draws through here.
     """
     catalog = Catalog.load()
     asset = cfg.asset
@@ -67,11 +90,13 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     groups: dict[tuple, list] = {}  # in the order the seeded permutation meets them
     for k in order:
         groups.setdefault(tuple(STRATA[key](candidates[k]) for key in keys), []).append(k)
-    turns = list(groups.values())
-    chosen = []
-    for i in range(n):  # group i mod G, its (i div G)-th member, cycling
-        group = turns[i % len(turns)]
-        chosen.append(candidates[group[(i // len(turns)) % len(group)]])
+    turns = group_turns(list(groups), asset.get("group_weights"))
+    chosen, drawn = [], dict.fromkeys(groups, 0)
+    for i in range(n):  # turn i mod T, that group's next member, cycling
+        label = turns[i % len(turns)]
+        members = groups[label]
+        chosen.append(candidates[members[drawn[label] % len(members)]])
+        drawn[label] += 1
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
     build_library(  # a no-op for configurations that are already current
