@@ -1,0 +1,63 @@
+"""Which category x kind groups each kept `gated` generalist learned in training:
+experiments/generalist/results/groups.md.
+
+    python experiments/generalist/groups.py
+
+Per run (results/<recipe>/s<seed>/metrics.csv, train parts) and group: the training success
+averaged over the last 25 iterations, and the first iteration at which that 25-iteration mean
+reached 0.5 ("never" if it did not). A training measure, not an evaluation: the test parts are
+`evaluate.py`'s.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from realikea.files import atomic_write_text
+from realikea.reports.generalist import CATEGORIES, KINDS
+from realikea.reports.learning_curve import GROUP_WINDOW
+from realikea.training.metrics import read_metrics, running_mean
+
+RESULTS = Path(__file__).resolve().parent / "results"
+RECIPES = ("default", "default_doors2", "hull_high")  # train_gated.py's
+LEARNED = 0.5  # the reward screen's mark of a run that learned
+
+
+def group_row(run: Path) -> list[str]:
+    """One cell per group: 'final mean (first iteration at LEARNED)'."""
+    series = read_metrics(run)
+    cells = []
+    for kind in KINDS:
+        for category in CATEGORIES:
+            its, values = series.get(f"/success/{category}_{kind}", ([], []))
+            if not values:
+                cells.append("–")
+                continue
+            mean = running_mean(values, GROUP_WINDOW)
+            first = next((its[i] for i, m in enumerate(mean) if m >= LEARNED), None)
+            cells.append(f"{mean[-1]:.2f} ({'never' if first is None else first})")
+    return cells
+
+
+def main() -> None:
+    groups = [f"{c} {k}" for k in KINDS for c in CATEGORIES]
+    lines = [
+        "# Training success per category × kind of the `gated` generalists",
+        "",
+        f"`python experiments/generalist/groups.py`: train parts; per group the mean over the "
+        f"last {GROUP_WINDOW} iterations and, in brackets, the first iteration at which the "
+        f"{GROUP_WINDOW}-iteration mean reached {LEARNED}.",
+        "",
+        "| run | " + " | ".join(groups) + " |",
+        "|---|" + "---|" * len(groups),
+    ]
+    for recipe in RECIPES:
+        for run in sorted((RESULTS / recipe).glob("s[0-9]*")):
+            if (run / "metrics.csv").is_file():
+                lines.append(f"| {recipe} {run.name} | " + " | ".join(group_row(run)) + " |")
+    atomic_write_text(RESULTS / "groups.md", "\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
