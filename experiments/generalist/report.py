@@ -7,8 +7,9 @@ Success per kind x category x mode with Wilson 95 % intervals for each grid foun
 kind and over every cell, then the named differences per cell and pooled with Newcombe's
 interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
-latter also on its own hull geometry, hull_high/s<seed>_own/), and default_doors2/s<seed>/ against
-the default per seed on the door kind (the comparison named before those runs).
+latter also on its own hull geometry, hull_high/s<seed>_own/); default_doors2/s<seed>/ and
+default/s<seed>_2500/ against the default per seed on the door kind (the comparisons named
+before those runs).
 """
 
 from __future__ import annotations
@@ -51,6 +52,10 @@ GRIDS = {  # folder -> what was trained
         for seed in (0, 1, 2)
         for own in (("", "_own") if recipe == "hull_high" else ("",))
     },
+    **{
+        f"default/s{seed}_2500": f"the default recipe, seed {seed}, continued to 2,500 iterations"
+        for seed in (0, 2)
+    },
 }
 COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
     ("coacd", "hull", "CoACD vs hull, w_open2 = 2", ("CoACD", "hull")),
@@ -65,38 +70,44 @@ COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
 )  # fmt: skip
 
 
-# named before the default_doors2 runs started (README): per seed, the door kind pooled, in
-# smooth and in high, default_doors2 against default; Holm over the four
-DOORS2 = [(seed, mode) for seed in (0, 1) for mode in ("smooth", "high")]
+# per-kind comparisons named before their runs (README): (title, a, b, the seeds, a's name);
+# per seed the door kind pooled, in smooth and in high, a against b, Holm over the four
+KIND_FAMILIES = (
+    ("Doors drawn twice as often vs the default", "default_doors2/s{}", "default/s{}", (0, 1),
+     "doors2"),
+    ("2,500 vs 1,500 iterations of the default", "default/s{}_2500", "default/s{}", (0, 2),
+     "2,500 its"),
+)  # fmt: skip
 
 
-def doors2_lines(grids: dict) -> list[str]:
-    """The door kind pooled per seed and mode, doubled door draw minus the default, each with
-    Newcombe's interval, then Holm's verdict over the four (drawers and flaps reported)."""
-    lines = ["## Doors drawn twice as often vs the default, per seed (named before the runs)", ""]
+def kind_family_lines(grids: dict, title: str, a: str, b: str, seeds, name: str) -> list[str]:
+    """Each kind pooled per seed and mode, a minus b, with Newcombe's interval, then Holm's
+    verdict over the door rows (the named family; drawers and flaps reported)."""
+    lines = [f"## {title}, per seed (named before the runs)", ""]
     lines += [
-        "| seed | mode | kind | doors2 | default | doors2 − default [95 %] |",
+        f"| seed | mode | kind | {name} | default | {name} − default [95 %] |",
         "|---|---|---|---|---|---|",
     ]
     family = []
-    for seed, mode in DOORS2:
-        a, b = f"default_doors2/s{seed}", f"default/s{seed}"
-        if a not in grids or b not in grids:
+    for seed in seeds:
+        ga, gb = grids.get(a.format(seed)), grids.get(b.format(seed))
+        if ga is None or gb is None:
             continue
-        for kind in KINDS:
-            (k1, n1), (k2, n2) = pooled(grids[a], mode, kind), pooled(grids[b], mode, kind)
-            d = Difference(f"seed {seed}, {mode}, {kind}", [(k1, n1)], [(k2, n2)])
-            diff, lo, hi = d.interval()
-            lines.append(
-                f"| {seed} | {mode} | {kind} | {describe(k1, n1)} | {describe(k2, n2)} | "
-                f"{diff:+.2f} [{lo:+.2f}, {hi:+.2f}] |"
-            )
-            if kind == "door":
-                family.append(d)
+        for mode in ("smooth", "high"):
+            for kind in KINDS:
+                (k1, n1), (k2, n2) = pooled(ga, mode, kind), pooled(gb, mode, kind)
+                d = Difference(f"seed {seed}, {mode}, {kind}", [(k1, n1)], [(k2, n2)])
+                diff, lo, hi = d.interval()
+                lines.append(
+                    f"| {seed} | {mode} | {kind} | {describe(k1, n1)} | {describe(k2, n2)} | "
+                    f"{diff:+.2f} [{lo:+.2f}, {hi:+.2f}] |"
+                )
+                if kind == "door":
+                    family.append(d)
     if not family:
         return []
-    title = "The named family: doors, per seed and mode (Holm)"
-    return [*lines, "", *holm_lines(family, title, "###"), ""]
+    heading = "The named family: doors, per seed and mode (Holm)"
+    return [*lines, "", *holm_lines(family, heading, "###"), ""]
 
 
 def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> list[str]:
@@ -139,7 +150,8 @@ def main() -> None:
     for a, b, title, names in COMPARISONS:
         if a in grids and b in grids:
             lines += comparison_lines(grids[a], grids[b], title, names)
-    lines += doors2_lines(grids)
+    for family in KIND_FAMILIES:
+        lines += kind_family_lines(grids, *family)
     atomic_write_text(RESULTS / "table.md", "\n".join(lines))
     print("\n".join(lines))
 
