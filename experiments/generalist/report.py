@@ -96,6 +96,8 @@ def kind_family_lines(grids: dict, title: str, a: str, b: str, seeds, name: str)
         for mode in ("smooth", "high"):
             for kind in KINDS:
                 (k1, n1), (k2, n2) = pooled(ga, mode, kind), pooled(gb, mode, kind)
+                if not (n1 and n2):  # a grid still being evaluated
+                    continue
                 d = Difference(f"seed {seed}, {mode}, {kind}", [(k1, n1)], [(k2, n2)])
                 diff, lo, hi = d.interval()
                 lines.append(
