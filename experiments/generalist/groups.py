@@ -13,13 +13,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from train_gated import RECIPES  # this folder's: the recipes it trains
+
 from realikea.files import atomic_write_text
 from realikea.reports.generalist import CATEGORIES, KINDS
 from realikea.reports.learning_curve import GROUP_WINDOW
 from realikea.training.metrics import read_metrics, running_mean
 
 RESULTS = Path(__file__).resolve().parent / "results"
-RECIPES = ("default", "default_doors2", "hull_high")  # train_gated.py's
 LEARNED = 0.5  # the reward screen's mark of a run that learned
 
 
