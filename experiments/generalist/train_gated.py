@@ -32,6 +32,9 @@ RECIPES = {
     # the default with each door group drawn twice as often (about 11 of the 64 envs, the others
     # 5-6): doors are learned last, or never, in the default's seeds
     "default_doors2": ["asset.group_weights={door:2}"],
+    # the default with a draw that follows training success: every 50 iterations each group
+    # below 0.5 success takes three turns of the draw for every one of the others
+    "default_follow": ["asset.follow_success={every:50,below:0.5,weight:3}"],
 }
 
 

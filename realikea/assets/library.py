@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from realikea.assets.build import WorkflowSettings, build_library
-from realikea.assets.catalog import Catalog
+from realikea.assets.catalog import Catalog, Configuration
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 
@@ -36,10 +37,18 @@ def load_model(mjcf: Path) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_path(str(mjcf))
 
 
+def turns(count: dict[tuple, int]) -> list[tuple]:
+    """A draw's turns over its groups: each group once, in order, then again for every extra
+    turn `count` gives it ({a: 2, b: 1}: a, b, a)."""
+    return [
+        label for r in range(max(count.values(), default=1)) for label in count if count[label] > r
+    ]
+
+
 def group_turns(labels: list[tuple], weights) -> list[tuple]:
-    """The draw's turns over its groups: each group once, in order, then again for every extra
-    turn `weights` gives it ({door: 2}: a group whose label holds `door` takes two turns for
-    every one of the others; a label's weight is the product of its values')."""
+    """The draw's turns when `weights` gives groups holding a value extra turns ({door: 2}: a
+    group whose label holds `door` takes two turns for every one of the others; a label's weight
+    is the product of its values')."""
     weights = dict(weights or {})
     values = {v for label in labels for v in label}
     bad = {
@@ -52,24 +61,32 @@ def group_turns(labels: list[tuple], weights) -> list[tuple]:
             f"asset.group_weights: {bad} is not a whole number >= 1 on a group value of "
             f"asset.stratify ({sorted(values)})"
         )
-    count = {label: int(np.prod([weights.get(v, 1) for v in label])) for label in labels}
-    return [
-        label for r in range(max(count.values(), default=1)) for label in labels if count[label] > r
-    ]
+    return turns({label: int(np.prod([weights.get(v, 1) for v in label])) for label in labels})
 
 
-def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
-    """MJCFs of `n` configurations drawn from the `asset` group (built if missing).
+@dataclass
+class TrainingDraw:
+    """The stratified draw: each group's candidates in the seeded order, the group and
+    configuration of every env, and how many of each group's members were taken (a group's next
+    configuration is the one after, cycling)."""
 
-    Configurations are drawn without replacement (cycling when n exceeds the category) in a
-    seeded order, for the collision source of `cfg.collision`, from the parts of `asset.split`
-    (train, test or all; all for a config written before the split existed). With
-    `asset.stratify` (e.g. [category, kind]) the draw takes its groups in turn, so each
-    category × kind gets about n / groups configurations however few the catalog has (one
-    flap base among thirteen); with one group it is the plain draw. `asset.group_weights`
-    gives some groups more turns (`group_turns`). Every consumer (training pool, evaluation,
-    table, video) draws through here.
-    """
+    keys: list[str]
+    groups: dict[tuple, list[Configuration]]
+    labels: list[tuple] = field(default_factory=list)
+    configurations: list[Configuration] = field(default_factory=list)
+    drawn: dict[tuple, int] = field(default_factory=dict)
+
+    def take(self, label: tuple) -> Configuration:
+        """The group's next configuration."""
+        members = self.groups[label]
+        k = self.drawn.get(label, 0)
+        self.drawn[label] = k + 1
+        return members[k % len(members)]
+
+
+def training_draw(cfg, n: int, seed: int = 0) -> TrainingDraw:
+    """`n` configurations of the `asset` group by the stratified draw (`training_configurations`
+    says how), not yet built."""
     catalog = Catalog.load()
     asset = cfg.asset
     candidates = list(
@@ -89,21 +106,43 @@ def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
     order = np.random.default_rng(seed).permutation(len(candidates))
     groups: dict[tuple, list] = {}  # in the order the seeded permutation meets them
     for k in order:
-        groups.setdefault(tuple(STRATA[key](candidates[k]) for key in keys), []).append(k)
-    turns = group_turns(list(groups), asset.get("group_weights"))
-    chosen, drawn = [], dict.fromkeys(groups, 0)
+        groups.setdefault(tuple(STRATA[key](candidates[k]) for key in keys), []).append(
+            candidates[k]
+        )
+    draw = TrainingDraw(keys, groups)
+    order_of_turns = group_turns(list(groups), asset.get("group_weights"))
     for i in range(n):  # turn i mod T, that group's next member, cycling
-        label = turns[i % len(turns)]
-        members = groups[label]
-        chosen.append(candidates[members[drawn[label] % len(members)]])
-        drawn[label] += 1
+        label = order_of_turns[i % len(order_of_turns)]
+        draw.labels.append(label)
+        draw.configurations.append(draw.take(label))
+    return draw
+
+
+def built_models(cfg, configurations: list[Configuration]) -> list[Path]:
+    """The MJCFs of `configurations` for the collision source of `cfg.collision` (built if
+    missing)."""
     source = str(cfg.collision.source)
     library = repo_path(cfg.paths.library)
     build_library(  # a no-op for configurations that are already current
-        list({c.id: c for c in chosen}.values()),
+        list({c.id: c for c in configurations}.values()),
         WorkflowSettings.from_config(cfg),
         ("coacd", "hull"),
         repo_path(cfg.paths.cache),
         library,
     )
-    return [library / c.id / f"model_{source}.xml" for c in chosen]
+    return [library / c.id / f"model_{source}.xml" for c in configurations]
+
+
+def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:
+    """MJCFs of `n` configurations drawn from the `asset` group (built if missing).
+
+    Configurations are drawn without replacement (cycling when n exceeds the category) in a
+    seeded order, for the collision source of `cfg.collision`, from the parts of `asset.split`
+    (train, test or all; all for a config written before the split existed). With
+    `asset.stratify` (e.g. [category, kind]) the draw takes its groups in turn, so each
+    category × kind gets about n / groups configurations however few the catalog has (one
+    flap base among thirteen); with one group it is the plain draw. `asset.group_weights`
+    gives some groups more turns (`group_turns`). Every consumer (training pool, evaluation,
+    table, video) draws through here.
+    """
+    return built_models(cfg, training_draw(cfg, n, seed).configurations)

@@ -13,7 +13,7 @@ ended.
 
 Backends, one interface (`InProcess` for `num_workers=0`, `Processes` otherwise): `horizons`,
 `restarts`, `pids`; `step() -> (records of ended episodes, workers lost)`, `reset(env_ids)`,
-`facts(env_ids)`, `set_iteration(it)`, `close()`.
+`facts(env_ids)`, `set_iteration(it)`, `reassign({env: (MJCF, seed)})`, `close()`.
 
 Robustness, all counted in `pool.counters`:
 - a worker that dies (or exceeds `step_timeout`) is restarted; its envs start new episodes
@@ -43,6 +43,10 @@ from realikea.pool.in_process import InProcess
 from realikea.pool.processes import Processes, available_cores
 from realikea.spawn import spawn_context
 from realikea.tasks.open_task import OpenTask
+
+# a reassigned env's k-th seed is seed + i + num_envs * (RESEED + k): apart from the worker
+# restarts' seed + i + num_envs * generation
+RESEED = 1_000_000
 
 
 class EnvPool:
@@ -90,6 +94,7 @@ class EnvPool:
         self._closed = False
         self._steps = np.zeros(self.num_envs, np.int64)  # per-env steps in the current episode
         self._returns = np.zeros(self.num_envs)
+        self._moves = np.zeros(self.num_envs, np.int64)  # reassignments per env
         sizes = (self.num_envs, self.num_workers, self.obs_size, self.num_actions)
         _, size = shared.layout(*sizes)
         if self.num_workers == 0:
@@ -121,6 +126,24 @@ class EnvPool:
     def _seeds(self, env_ids, generation: int) -> list[int]:
         """env i is seeded seed + i; a restarted worker's envs get fresh, still unique seeds."""
         return [self.seed + i + generation * self.num_envs for i in env_ids]
+
+    def reassign(self, moves: dict[int, Path | str]) -> None:
+        """Move envs to other configurations ({env id: MJCF}); each switches when its current
+        episode ends (or at its next `reset`), with a fresh seed."""
+        self._check_open()
+        bad = {i: str(p) for i, p in moves.items() if not 0 <= int(i) < self.num_envs}
+        bad |= {i: str(p) for i, p in moves.items() if not Path(p).is_file()}
+        if bad:
+            raise RealIkeaError(
+                f"reassign: env ids lie in [0, {self.num_envs}) and MJCFs exist; got {bad}"
+            )
+        seeded = {}
+        for i, path in moves.items():
+            self._moves[int(i)] += 1
+            seed = self.seed + int(i) + self.num_envs * (RESEED + int(self._moves[int(i)]))
+            seeded[int(i)] = (str(path), seed)
+            self.configurations[int(i)] = Path(path)
+        self._backend.reassign(seeded)
 
     # --- the vectorized env -----------------------------------------------------------------------
     @property

@@ -25,8 +25,10 @@ class EnvSlice:
     """
 
     def __init__(self, task_factory, cfg, paths, seeds, env_ids, arrays, worker, iteration):
+        self.factory, self.cfg = task_factory, cfg
         self.ids = [int(i) for i in env_ids]
         self.tasks = [task_factory(cfg, Path(p), int(s)) for p, s in zip(paths, seeds, strict=True)]
+        self.pending: dict[int, tuple[str, int]] = {}  # env id -> (MJCF, seed) at its next episode
         self.a = arrays
         self.counters = arrays["counters"][worker]
         self.episode_keys = tuple(getattr(task_factory, "episode_keys", ()))
@@ -42,22 +44,38 @@ class EnvSlice:
         return {i: t.facts() for t, i in zip(self.tasks, self.ids, strict=True) if i in wanted}
 
     def set_iteration(self, iteration: int) -> None:
+        self.iteration = int(iteration)
         for task in self.tasks:
-            task.iteration = int(iteration)
+            task.iteration = self.iteration
+
+    def reassign(self, moves: dict[int, tuple[str, int]]) -> None:
+        """Move envs to other configurations ({env id: (MJCF, seed)}) from their next episode."""
+        self.pending.update({int(i): m for i, m in moves.items() if int(i) in self.ids})
+
+    def _start(self, task, i):
+        """Start env i's next episode (on its new configuration if one is pending); returns the
+        task that runs it."""
+        if i in self.pending:
+            path, seed = self.pending.pop(i)
+            task = self.factory(self.cfg, Path(path), int(seed))
+            task.iteration = self.iteration
+            self.tasks[self.ids.index(i)] = task
+        self.a["obs"][i] = task.reset()
+        return task
 
     def reset(self, env_ids=None) -> None:
         """Start new episodes for the given global env ids (all of this slice's by default)."""
         wanted = None if env_ids is None else {int(i) for i in env_ids}
-        for task, i in zip(self.tasks, self.ids, strict=True):
+        for task, i in zip(list(self.tasks), self.ids, strict=True):
             if wanted is None or i in wanted:
-                self.a["obs"][i] = task.reset()
+                self._start(task, i)
 
     def _end(self, task, i, final_obs, reward, terminated, truncated, record) -> dict:
         """Write the last step of an episode, keep its final observation, start the next one."""
         a = self.a
         a["final_obs"][i] = final_obs
         a["reward"][i], a["terminated"][i], a["truncated"][i] = reward, terminated, truncated
-        a["obs"][i] = task.reset()
+        self._start(task, i)
         record["env"] = i
         return record
 
@@ -67,7 +85,7 @@ class EnvSlice:
         actions, obs, rewards = a["action"], a["obs"], a["reward"]
         finite_actions = np.isfinite(actions[self.ids]).all(axis=1).tolist()  # one check for all
         ended = []
-        for task, i, finite_action in zip(self.tasks, self.ids, finite_actions, strict=True):
+        for task, i, finite_action in zip(list(self.tasks), self.ids, finite_actions, strict=True):
             if not finite_action:
                 self.counters[_C["bad_action_resets"]] += 1
                 record = {"termination": "bad_action"}

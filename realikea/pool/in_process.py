@@ -28,5 +28,8 @@ class InProcess:
     def set_iteration(self, iteration: int) -> None:
         self.envs.set_iteration(iteration)
 
+    def reassign(self, moves: dict) -> None:
+        self.envs.reassign(moves)
+
     def close(self) -> None:
         """Nothing to stop."""

@@ -64,6 +64,8 @@ def _worker_main(conn, buffer, sizes, task_factory, cfg, paths, seeds, env_ids, 
                 conn.send(("ok", envs.facts(argument)))
             elif command == "iteration":  # no reply: pipe order puts it before the next step
                 envs.set_iteration(argument)
+            elif command == "reassign":  # no reply, as for the iteration
+                envs.reassign(argument)
             elif command == "close":
                 conn.send(("ok", None))
                 return
@@ -261,6 +263,15 @@ class Processes:
         for w in self.workers:  # no reply; a dead worker restarts with the current iteration
             with contextlib.suppress(BrokenPipeError, ConnectionResetError, OSError):
                 w.conn.send(("iteration", iteration))
+
+    def reassign(self, moves: dict) -> None:
+        """Move envs to other configurations ({env id: (MJCF, seed)}) from their next episode; a
+        worker restarted later builds them there."""
+        for i, (path, _) in moves.items():
+            self.paths[i] = str(path)
+        for w in self._owners(moves):
+            with contextlib.suppress(BrokenPipeError, ConnectionResetError, OSError):
+                w.conn.send(("reassign", {i: moves[i] for i in w.env_ids if i in moves}))
 
     def close(self) -> None:
         self._finalizer()

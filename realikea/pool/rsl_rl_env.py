@@ -4,6 +4,10 @@ Both observation groups, `policy` (actor) and `critic`, hold the privileged obse
 training iteration is env steps // num_steps_per_env (the runner collects that many steps per
 iteration); when it changes the pool hears of it, so the two-phase randomization switches at
 `cfg.dr.switch_iteration`. After resuming from a checkpoint call `set_iteration(it)`.
+
+With a `draw` (`realikea/training/success_draw.py`) the adapter feeds it every finished episode
+and, at each new iteration, hands the pool the envs it moves (`EnvPool.reassign`); the envs per
+group are logged as `/draw/<group>`.
 """
 
 from __future__ import annotations
@@ -35,7 +39,14 @@ class EnvConfig(dict):
 class RslRlVecEnv(VecEnv):
     """rsl-rl's view of an `EnvPool`; `close()` closes the pool."""
 
-    def __init__(self, pool: EnvPool, cfg: DictConfig, num_steps_per_env: int, device: str = "cpu"):
+    def __init__(
+        self,
+        pool: EnvPool,
+        cfg: DictConfig,
+        num_steps_per_env: int,
+        device: str = "cpu",
+        draw=None,
+    ):
         if int(num_steps_per_env) < 1:
             raise RealIkeaError(f"num_steps_per_env={num_steps_per_env}: use 1 or more")
         self.pool = pool
@@ -49,6 +60,7 @@ class RslRlVecEnv(VecEnv):
         self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.common_step_counter = 0
         self.iteration = pool.iteration
+        self.draw = draw
 
     # --- iteration ----------------------------------------------------------------------------
     def set_iteration(self, iteration: int) -> None:
@@ -74,9 +86,13 @@ class RslRlVecEnv(VecEnv):
         obs, reward, terminated, truncated, info = self.pool.step(a)
         self.common_step_counter += 1
         iteration = self.common_step_counter // self.num_steps_per_env
+        if self.draw is not None:
+            self.draw.record(info["episodes"])
         if iteration != self.iteration:
             self.iteration = iteration
             self.pool.set_iteration(iteration)
+            if self.draw is not None and (moves := self.draw.moves(iteration)):
+                self.pool.reassign(moves)
 
         done = torch.as_tensor(terminated | truncated, device=self.device)
         self.episode_length_buf += 1
@@ -131,6 +147,8 @@ class RslRlVecEnv(VecEnv):
             log.update({name: torch.tensor(values) for name, values in sorted(groups.items())})
         for name, value in self.pool.counters.items():
             log[f"/pool/{name}"] = float(value)
+        if self.draw is not None:
+            log.update(self.draw.shares())
         return log
 
     def close(self) -> None:

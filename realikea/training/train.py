@@ -17,6 +17,7 @@ from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_sa
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.rewards import reward_from_config, variant_name
+from realikea.training.success_draw import SuccessFollowingDraw
 
 
 def runner_config(cfg: DictConfig) -> dict:
@@ -125,10 +126,16 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
         check_resumable(Path(cfg.train.resume), cfg)
-    mjcfs = training_configurations(cfg, int(cfg.env.num_envs), int(cfg.env.seed))
+    n, seed = int(cfg.env.num_envs), int(cfg.env.seed)
+    draw = None
+    if cfg.asset.get("follow_success") is not None:
+        draw = SuccessFollowingDraw.from_config(cfg, n, seed)
+        mjcfs = draw.paths()
+    else:
+        mjcfs = training_configurations(cfg, n, seed)
     pool = EnvPool(cfg, mjcfs)
     try:
-        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env))
+        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env), draw=draw)
         runner = Runner(
             env,
             runner_config(cfg),
