@@ -8,8 +8,8 @@ kind and over every cell, then the named differences per cell and pooled with Ne
 interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
 latter also on its own hull geometry, hull_high/s<seed>_own/); default_doors2/s<seed>/ and
-default/s<seed>_2500/ against the default per seed on the door kind (the comparisons named
-before those runs).
+default/s<seed>_2500/ against the default per seed on the door kind, default_follow/s<seed>/ on
+all cells pooled (the comparisons named before those runs).
 """
 
 from __future__ import annotations
@@ -48,6 +48,11 @@ GRIDS = {  # folder -> what was trained
                 "the default recipe with door groups drawn twice as often "
                 "(`asset.group_weights={door:2}`)",
             ),
+            (
+                "default_follow",
+                "the default recipe with a draw that follows training success "
+                "(`asset.follow_success={every:50,below:0.5,weight:3}`)",
+            ),
         )  # fmt: skip
         for seed in (0, 1, 2)
         for own in (("", "_own") if recipe == "hull_high" else ("",))
@@ -70,19 +75,24 @@ COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
 )  # fmt: skip
 
 
-# per-kind comparisons named before their runs (README): (title, a, b, the seeds, a's name);
-# per seed the door kind pooled, in smooth and in high, a against b, Holm over the four
+# per-kind comparisons named before their runs (README): (title, a, b, the seeds, a's name, the
+# named rows: a kind, or "all" for every cell pooled); per seed each kind and all cells, in
+# smooth and in high, a against b, Holm over the named rows of the seeds and modes
 KIND_FAMILIES = (
     ("Doors drawn twice as often vs the default", "default_doors2/s{}", "default/s{}", (0, 1),
-     "doors2"),
+     "doors2", "door"),
     ("2,500 vs 1,500 iterations of the default", "default/s{}_2500", "default/s{}", (0, 2),
-     "2,500 its"),
+     "2,500 its", "door"),
+    ("A draw that follows training success vs the default", "default_follow/s{}", "default/s{}",
+     (0, 1), "follow", "all"),
 )  # fmt: skip
 
 
-def kind_family_lines(grids: dict, title: str, a: str, b: str, seeds, name: str) -> list[str]:
-    """Each kind pooled per seed and mode, a minus b, with Newcombe's interval, then Holm's
-    verdict over the door rows (the named family; drawers and flaps reported)."""
+def kind_family_lines(
+    grids: dict, title: str, a: str, b: str, seeds, name: str, named: str
+) -> list[str]:
+    """Each kind and all cells pooled per seed and mode, a minus b, with Newcombe's interval,
+    then Holm's verdict over the `named` rows (the others reported)."""
     lines = [f"## {title}, per seed (named before the runs)", ""]
     lines += [
         f"| seed | mode | kind | {name} | default | {name} − default [95 %] |",
@@ -94,8 +104,9 @@ def kind_family_lines(grids: dict, title: str, a: str, b: str, seeds, name: str)
         if ga is None or gb is None:
             continue
         for mode in ("smooth", "high"):
-            for kind in KINDS:
-                (k1, n1), (k2, n2) = pooled(ga, mode, kind), pooled(gb, mode, kind)
+            for kind in (*KINDS, "all"):
+                pick = None if kind == "all" else kind
+                (k1, n1), (k2, n2) = pooled(ga, mode, pick), pooled(gb, mode, pick)
                 if not (n1 and n2):  # a grid still being evaluated
                     continue
                 d = Difference(f"seed {seed}, {mode}, {kind}", [(k1, n1)], [(k2, n2)])
@@ -104,11 +115,12 @@ def kind_family_lines(grids: dict, title: str, a: str, b: str, seeds, name: str)
                     f"| {seed} | {mode} | {kind} | {describe(k1, n1)} | {describe(k2, n2)} | "
                     f"{diff:+.2f} [{lo:+.2f}, {hi:+.2f}] |"
                 )
-                if kind == "door":
+                if kind == named:
                     family.append(d)
     if not family:
         return []
-    heading = "The named family: doors, per seed and mode (Holm)"
+    rows = "all cells" if named == "all" else f"{named}s"
+    heading = f"The named family: {rows}, per seed and mode (Holm)"
     return [*lines, "", *holm_lines(family, heading, "###"), ""]
 
 
