@@ -1,5 +1,6 @@
 """A run's learning curve (realikea/reports/learning_curve.py): a panel per category x kind only
-for runs that log per-group success, written where asked."""
+for runs that log per-group success, one of envs per group for runs whose draw follows success,
+written where asked."""
 
 from __future__ import annotations
 
@@ -30,3 +31,8 @@ def test_a_generalists_curve_has_a_panel_per_group_and_a_specialists_does_not(tm
     assert narrow == tmp_path / "elsewhere.png" and not (specialist / "learning_curve.png").exists()
     assert Image.open(wide).size == (2000, 400)  # four panels, 20 x 4 in at 100 dpi
     assert Image.open(narrow).size == (1500, 400)  # three
+
+
+def test_a_run_whose_draw_follows_success_gets_a_panel_of_envs_per_group(tmp_path):
+    run = _run(tmp_path / "f", ("/success/knob_drawer", "/draw/knob_drawer"))
+    assert Image.open(plot_learning_curve(run)).size == (2500, 400)  # five panels

@@ -21,7 +21,9 @@ def plot_learning_curve(run_dir: Path, out: Path | None = None) -> Path:
     """Plot RUN_DIR/metrics.csv to `out` (default RUN_DIR/learning_curve.png); return the path."""
     series = read_metrics(run_dir)
     groups = sorted(tag for tag in series if tag.startswith("/success/"))
-    fig, axes = plt.subplots(1, 4 if groups else 3, figsize=(20 if groups else 15, 4))
+    draws = sorted(tag for tag in series if tag.startswith("/draw/"))  # asset.follow_success
+    panels = 3 + bool(groups) + bool(draws)
+    fig, axes = plt.subplots(1, panels, figsize=(5 * panels, 4))
     for name, colour in (("success", "tab:green"), ("partial", "tab:orange"), ("fail", "tab:red")):
         its, values = series.get(f"/episode/{name}", ([], []))
         axes[0].plot(its, values, color=colour, label=name)
@@ -45,6 +47,12 @@ def plot_learning_curve(run_dir: Path, out: Path | None = None) -> Path:
             ylim=(0, 1),
         )
         axes[3].legend(fontsize=7)
+    for tag in draws:  # in the order (and so the colours) of the success panel
+        its, values = series[tag]
+        axes[-1].plot(its, values, label=tag.removeprefix("/draw/"))
+    if draws:
+        axes[-1].set(title="envs per category x kind (the draw)", xlabel="iteration")
+        axes[-1].legend(fontsize=7)
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
