@@ -7,7 +7,9 @@ metrics, the launches' wall times, the Hydra config, the learning curve).
 
 Recipes: `default` is `python train.py` (CoACD, normal, every category and kind, 1,500
 iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`;
-`default_doors2` the default with twice the draw's turns for door groups (`asset.group_weights`).
+`default_doors2` the default with twice the draw's turns for door groups (`asset.group_weights`);
+`default_follow` the default with a draw that follows training success
+(`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations).
 Each run gets one env worker (two side by side on the 2 cores). Then evaluate each kept
 checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its own geometry:
 `evaluate.py CHECKPOINT hull_high/s0_own collision=hull --modes high`).
@@ -35,14 +37,18 @@ RECIPES = {
     # the default with a draw that follows training success: every 50 iterations each group
     # below 0.5 success takes three turns of the draw for every one of the others
     "default_follow": ["asset.follow_success={every:50,below:0.5,weight:3}"],
+    # door specialists: the default on doors only (the three categories, about 21 envs each),
+    # 600 iterations, poses fixed to 300: whether doors are learned in every seed on their own
+    "doors": ["asset.kind=door", "agent.max_iterations=600", "dr.switch_iteration=300"],
 }
+SHORTER = {"doors": 600}  # recipes shorter than ITERATIONS
 
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
     # checkpoints every 25 iterations: a session stopped mid-run loses little when it resumes
     overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1",
                  "agent.save_interval=25")  # fmt: skip
-    return QueuedRun(f"{recipe}_s{seed}", overrides, ITERATIONS)
+    return QueuedRun(f"{recipe}_s{seed}", overrides, SHORTER.get(recipe, ITERATIONS))
 
 
 def kept_dir(run: QueuedRun) -> Path:
