@@ -52,16 +52,14 @@ class EnvSlice:
         """Move envs to other configurations ({env id: (MJCF, seed)}) from their next episode."""
         self.pending.update({int(i): m for i, m in moves.items() if int(i) in self.ids})
 
-    def _start(self, task, i):
-        """Start env i's next episode (on its new configuration if one is pending); returns the
-        task that runs it."""
+    def _start(self, task, i) -> None:
+        """Start env i's next episode, on its new configuration if one is pending."""
         if i in self.pending:
             path, seed = self.pending.pop(i)
             task = self.factory(self.cfg, Path(path), int(seed))
             task.iteration = self.iteration
             self.tasks[self.ids.index(i)] = task
         self.a["obs"][i] = task.reset()
-        return task
 
     def reset(self, env_ids=None) -> None:
         """Start new episodes for the given global env ids (all of this slice's by default)."""
