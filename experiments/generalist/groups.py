@@ -43,7 +43,7 @@ def group_row(run: Path) -> list[str]:
 def main() -> None:
     groups = [f"{c} {k}" for k in KINDS for c in CATEGORIES]
     lines = [
-        "# Training success per category × kind of the `gated` generalists",
+        "# Training success per category × kind of the `gated` generalists and door specialists",
         "",
         f"`python experiments/generalist/groups.py`: train parts; per group the mean over the "
         f"last {GROUP_WINDOW} iterations and, in brackets, the first iteration at which the "
