@@ -131,18 +131,17 @@ class EnvPool:
         """Move envs to other configurations ({env id: MJCF}); each switches when its current
         episode ends (or at its next `reset`), with a fresh seed."""
         self._check_open()
-        bad = {i: str(p) for i, p in moves.items() if not 0 <= int(i) < self.num_envs}
-        bad |= {i: str(p) for i, p in moves.items() if not Path(p).is_file()}
+        moves = {int(i): Path(p) for i, p in moves.items()}
+        bad = {i: str(p) for i, p in moves.items() if not 0 <= i < self.num_envs or not p.is_file()}
         if bad:
             raise RealIkeaError(
                 f"reassign: env ids lie in [0, {self.num_envs}) and MJCFs exist; got {bad}"
             )
         seeded = {}
         for i, path in moves.items():
-            self._moves[int(i)] += 1
-            seed = self.seed + int(i) + self.num_envs * (RESEED + int(self._moves[int(i)]))
-            seeded[int(i)] = (str(path), seed)
-            self.configurations[int(i)] = Path(path)
+            self._moves[i] += 1
+            seeded[i] = (str(path), self.seed + i + self.num_envs * (RESEED + int(self._moves[i])))
+            self.configurations[i] = path
         self._backend.reassign(seeded)
 
     # --- the vectorized env -----------------------------------------------------------------------

@@ -24,8 +24,8 @@ from realikea.assets.library import TrainingDraw, built_models, training_draw, t
 from realikea.config import config_number
 from realikea.errors import RealIkeaError
 
-# the group an episode's record belongs to, by `asset.stratify` key
-RECORD_KEYS = {"category": "category", "kind": "kind"}
+# the `asset.stratify` keys an episode's record carries under the same names
+RECORD_KEYS = ("category", "kind")
 
 
 class SuccessFollowingDraw:
@@ -36,7 +36,7 @@ class SuccessFollowingDraw:
         missing = [k for k in draw.keys if k not in RECORD_KEYS]
         if missing or not draw.keys:
             raise RealIkeaError(
-                f"asset.follow_success needs asset.stratify over {sorted(RECORD_KEYS)} "
+                f"asset.follow_success needs asset.stratify over {list(RECORD_KEYS)} "
                 f"(got {draw.keys})"
             )
         self.cfg, self.draw = cfg, draw
@@ -70,7 +70,7 @@ class SuccessFollowingDraw:
         """Count the success of the episodes that carry an outcome."""
         for e in episodes:
             if "outcome" in e:
-                label = tuple(e[RECORD_KEYS[k]] for k in self.draw.keys)
+                label = tuple(e[k] for k in self.draw.keys)
                 counts = self._window.setdefault(label, [0, 0])
                 counts[0] += e["outcome"] == "success"
                 counts[1] += 1
