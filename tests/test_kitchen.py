@@ -228,6 +228,20 @@ def test_hook_oracle_hooks_a_finger_pull_drawer_from_below(tmp_path, part):
     assert info["strategy"] == "hook", info["strategy"]
 
 
+def test_hook_oracle_hooks_the_finger_pull_flap_from_below_with_the_lift_raised(tmp_path):
+    """The wall unit's flap is placed like a drawer's finger pull, its handle 0.15 m above the
+    arm's base (the lift at 1.65 m): the lip's hook opens it past 45 deg in high resistance.
+    On a 1.1 m lift the handle stays 0.70 m above the base, where the hand cannot pitch up
+    behind the lip, and the flap stays shut (experiments/reach/README.md)."""
+    task = _task(tmp_path, "fp_lip_36", "flap_w60_h40", *ORACLE)
+    info = _episode(task)
+    assert task.model.body("link0").pos[2] > 1.5
+    assert info["outcome"] == "success" and info["strategy"] == "hook", (info, task.opening)
+    low = _task(tmp_path, "fp_lip_36", "flap_w60_h40", *ORACLE, "scene.robot.lift=[0.0,1.1]")
+    _episode(low)
+    assert low.opening < OPENED["hinge"] / 2, low.opening
+
+
 @pytest.mark.parametrize(
     "part, steps",
     [("fp_lip_36", ["start", "tip", "slide", "catch", "pull"]),

@@ -20,7 +20,13 @@ from realikea.eval.setup import trained_cell
 from realikea.eval.stats import wilson
 from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
-from realikea.reports.generalist import evaluate_grid, pooled, read_cells, success_table
+from realikea.reports.generalist import (
+    cell_overrides,
+    evaluate_grid,
+    pooled,
+    read_cells,
+    success_table,
+)
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 from realikea.training.train import runner_config, train
@@ -313,6 +319,19 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert len(results.read_text().splitlines()) == 1
     table = success_table(read_cells(results))
     assert "| drawer | two_point |" in table and "[" in table
+
+
+def test_a_grid_cell_puts_the_arm_where_the_checkpoint_was_trained(tmp_path):
+    """A run whose kitchen placements differ from today's is evaluated with its own (a changed
+    placement would move its arm); a checkpoint with no run config beside it, with today's."""
+    (tmp_path / ".hydra").mkdir()
+    (tmp_path / ".hydra" / "config.yaml").write_text(
+        "scene:\n  name: kitchen\n  robot:\n    placements: []\n"
+    )
+    args = ("drawer", "finger_pull", "high", 2, 1000, ["episodes=3"])
+    overrides = cell_overrides(tmp_path / "model_1.pt", *args)
+    assert overrides[-2:] == ["scene.robot.placements=[]", "episodes=3"]  # the command line last
+    assert "scene.robot.placements=[]" not in cell_overrides(tmp_path / "sub" / "model.pt", *args)
 
 
 def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one():

@@ -26,7 +26,10 @@ Two ways of catching the part, chosen by its category:
   (`lip_door_pull_wrist`): turning with the door, its first step tips the pad off the edge. The
   pull drags the lip's edge along the door's arc, the hand keeping its offset to it
   (`scripted.held_path`): the TCP's own arc is 4 cm off the edge's, and the arm fought the
-  door along it until joint 6 stood at its torque limit.
+  door along it until joint 6 stood at its torque limit. On a flap the wrist follows half of
+  its turn behind a lip (`lip_flap_pull_wrist`): following 0.3, as for bars and knobs, friction
+  carried about half the pull and a fifth of the openings were labelled pinch (train parts:
+  experiments/kitchen/README.md).
 
 A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
 a gap behind it; a pull without a channel) gets no plan: the hand holds still with the gripper
@@ -70,6 +73,7 @@ class OracleParams:
     pull_wrist: float = 0.3  # share of a flap's turn the wrist follows
     door_pull_wrist: float = 1.0  # share of a door's turn the wrist follows
     lip_door_pull_wrist: float = 0.0  # the same for a lip's wedge on a door
+    lip_flap_pull_wrist: float = 0.5  # the same for a lip's wedge on a flap
     wedge_pitch: float = 0.55  # rad the hand is tipped towards a knob's head for its wedge
     lip_pitch: float = 0.6  # rad tipped up for a lip's wedge
     wedge_depth: float = 0.008  # m the pad's tip goes past the edge along the approach, at most
@@ -187,9 +191,10 @@ class HookOracle(WaypointPolicy):
     # --- the plan ---------------------------------------------------------------------------
     def plan(self, facts: SceneFacts) -> list[Waypoint]:
         p, c = self.params, self.catch(facts)
-        wrist = p.pull_wrist
+        lip = facts.category == "finger_pull"
+        wrist = p.lip_flap_pull_wrist if lip else p.pull_wrist
         if facts.base_kind == "door":
-            wrist = p.lip_door_pull_wrist if facts.category == "finger_pull" else p.door_pull_wrist
+            wrist = p.lip_door_pull_wrist if lip else p.door_pull_wrist
         world = facts.to_world
         at = world(c.tcp)
         if c.mode == "loop":

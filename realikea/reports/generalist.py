@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
+from realikea.eval.runs import run_scene
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.files import shown_path
@@ -32,11 +33,15 @@ def cell_overrides(
     seed: int,
     extra: list[str],
 ) -> list[str]:
-    """`realikea eval` overrides of one cell: test parts, randomized poses, a held-out seed."""
+    """`realikea eval` overrides of one cell: test parts, randomized poses, a held-out seed, in
+    the scene the checkpoint's run was trained in (`run_scene`, when its `.hydra` sits beside
+    it: a placement changed since does not move its arm)."""
+    hydra = Path(checkpoint).parent / ".hydra"
+    scene = run_scene(hydra) if (hydra / "config.yaml").is_file() else []
     return [
         "policy=checkpoint", f"policy.path={shown_path(Path(checkpoint).resolve())}",
         f"asset={category}", f"asset.kind={kind}", f"resistance={mode}", "asset.split=test",
-        "dr=randomized", f"episodes={episodes}", f"env.seed={seed}", *extra,
+        "dr=randomized", f"episodes={episodes}", f"env.seed={seed}", *scene, *extra,
     ]  # fmt: skip
 
 
