@@ -28,7 +28,7 @@ Two ways of catching the part, chosen by its category:
   (`scripted.held_path`): the TCP's own arc is 4 cm off the edge's, and the arm fought the
   door along it until joint 6 stood at its torque limit. On a flap the wrist follows half of
   its turn behind a lip (`lip_flap_pull_wrist`): following 0.3, as for bars and knobs, friction
-  carried about half the pull and a fifth of the openings were labelled pinch (train parts:
+  carried over half the pull in a fifth of the openings (train parts:
   experiments/kitchen/README.md).
 
 A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
