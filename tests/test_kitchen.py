@@ -3,6 +3,8 @@ robot placed by its lift, and scenes named by the config."""
 
 from __future__ import annotations
 
+import importlib.util
+
 import mujoco
 import numpy as np
 import pytest
@@ -12,6 +14,7 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import run_scene
+from realikea.files import WORKSPACE
 from realikea.policies.registry import make_policy
 from realikea.policies.rollout import episode, final_info
 from realikea.sim.scene import (
@@ -240,6 +243,26 @@ def test_hook_oracle_hooks_the_finger_pull_flap_from_below_with_the_lift_raised(
     low = _task(tmp_path, "fp_lip_36", "flap_w60_h40", *ORACLE, "scene.robot.lift=[0.0,1.1]")
     _episode(low)
     assert low.opening < OPENED["hinge"] / 2, low.opening
+
+
+def test_the_hand_contact_record_names_the_worktop_a_knob_wedge_meets(tmp_path):
+    """experiments/kitchen/hand_contacts.py: in draw 2 of this drawer the hand's housing meets
+    the worktop as the knob's wedge slides in from above, and the drawer stays shut; in draw 0
+    the wedge opens it touching nothing off the part."""
+    spec = importlib.util.spec_from_file_location(
+        "hand_contacts", WORKSPACE / "experiments/kitchen/hand_contacts.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for seed, expected in ((2, "kitchen_worktop"), (0, None)):
+        cfg = _task(tmp_path, "knob_square_35", "drawer_w80_h20", *ORACLE).cfg
+        task = module.HandContactTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
+        info = _episode(task)
+        first = info["first_off_part"]
+        if expected is None:
+            assert info["outcome"] == "success" and first is None, (info["outcome"], first)
+        else:
+            assert info["outcome"] == "fail" and expected in first[0], (info["outcome"], first)
 
 
 @pytest.mark.parametrize(

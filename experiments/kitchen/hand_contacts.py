@@ -1,0 +1,97 @@
+"""What `hook_oracle`'s hand runs into where it falls short: `realikea eval`'s own episodes of
+one category x kind (test parts, kitchen, high, randomized poses, `env.seed=0`; the eval's env
+pool, in one process), each failed or partial one with its configuration, the oracle's note if
+it planned nothing, the front's final opening, and the first geoms off the part the hand or its
+fingers touched (`front` for the moving panel around the part, else the kitchen's boards) with
+the control step. Prints a markdown table and the count per first contact.
+
+    python experiments/kitchen/hand_contacts.py knob drawer [--episodes 50] [--set OVERRIDE]
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections import Counter
+
+from realikea.eval.setup import eval_setup, evaluate
+from realikea.tasks.open_task import OpenTask, StepResult
+
+HAND_BODIES = ("hand", "left_finger", "right_finger")
+
+
+class HandContactTask(OpenTask):
+    """An `OpenTask` whose episode record names the first geoms off the part the hand touched
+    (`first_off_part`: names and control step, or None) and its configuration."""
+
+    episode_keys = (*OpenTask.episode_keys, "first_off_part", "config_id")
+
+    def reset(self):
+        self._first, self._t = None, 0
+        self._hand = {self.model.body(name).id for name in HAND_BODIES}
+        return super().reset()
+
+    def evaluate(self, ik_ok: bool) -> StepResult:
+        result = super().evaluate(ik_ok)
+        if self._first is None:
+            touched = self._off_part()
+            if touched:
+                self._first = (sorted(touched), self._t)
+        self._t += 1
+        if result.terminated or result.truncated:
+            result.info.update(first_off_part=self._first, config_id=self.config_id)
+        return result
+
+    def _off_part(self) -> set[str]:
+        """Names of the geoms off the part touching the hand now."""
+        model, data, names = self.model, self.data, set()
+        for contact in data.contact[: data.ncon]:
+            g1, g2 = int(contact.geom1), int(contact.geom2)
+            in1, in2 = model.geom_bodyid[g1] in self._hand, model.geom_bodyid[g2] in self._hand
+            if in1 == in2:
+                continue
+            other = model.geom(g2 if in1 else g1).name or "unnamed"
+            if "part_collision" not in other:
+                names.add("front" if other.endswith("front_collision") else other.split("/")[-1])
+        return names
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("category", choices=["two_point", "knob", "finger_pull"])
+    parser.add_argument("kind", choices=["drawer", "door", "flap"])
+    parser.add_argument("--episodes", type=int, default=50)
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        help="a Hydra override (repeatable)")  # fmt: skip
+    args = parser.parse_args()
+    overrides = [
+        "policy=hook_oracle", f"asset={args.category}", f"asset.kind={args.kind}",
+        "asset.split=test", "resistance=high", "dr=randomized", f"episodes={args.episodes}",
+        "scene=kitchen", "env.num_workers=0", *args.overrides,
+    ]  # fmt: skip
+    cfg, policy = eval_setup(overrides)
+    episodes = evaluate(cfg, policy, progress=False, task_factory=HandContactTask).episodes
+    outcomes = Counter(e.get("outcome", "fail") for e in episodes)
+    print(f"`realikea eval {' '.join(overrides)}`: "
+          + ", ".join(f"{o} {n}" for o, n in sorted(outcomes.items())) + "\n")  # fmt: skip
+    print("| configuration | env | outcome | opening | first contact off the part (step) |")
+    print("|---|---:|---|---:|---|")
+    causes = Counter()
+    for e in episodes:
+        if e.get("outcome") == "success":
+            continue
+        first = e.get("first_off_part")
+        if "policy_note" in e:
+            cause = "no plan"
+            shown = f"no plan: {e['policy_note'].split(': ', 1)[-1]}"
+        else:
+            cause = ", ".join(first[0]) if first else "none"
+            shown = f"{cause} ({first[1]})" if first else "none"
+        causes[cause] += 1
+        print(f"| {e.get('config_id', '?')} | {e['env']} | {e.get('outcome', 'cut short')} | "
+              f"{e.get('opening', float('nan')):.2f} | {shown} |")  # fmt: skip
+    print("\nfirst contact off the part, episodes short of success: "
+          + ", ".join(f"{c} {n}" for c, n in causes.most_common()))  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
