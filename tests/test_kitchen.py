@@ -182,9 +182,9 @@ def test_hook_oracle_levers_a_door_knob_from_the_hinge_side(tmp_path, base):
 
 def test_a_finger_pull_drawer_places_the_arm_below_its_handle_with_its_own_home(tmp_path):
     """A finger pull on a drawer is caught from below, the hand pitched up, which the arm's
-    joint limits allow with the handle 0.15 m above its base (scene.robot.placements); every
-    other configuration keeps the arm 0.80 m below the handle and sim.robot.home."""
-    for part, above, placed in (("fp_cup_96", 0.15, True), ("knob_round_30", 0.80, False)):
+    joint limits allow with the handle 0.15 m above its base (scene.robot.placements); a
+    two-point drawer keeps the arm 0.80 m below the handle and sim.robot.home."""
+    for part, above, placed in (("fp_cup_96", 0.15, True), ("tp_round_bar_128", 0.80, False)):
         task = _task(tmp_path, part, "drawer_w40_h20")
         task.reset()
         below = task.facts().handle_pos[2] - task.model.body("link0").pos[2]
@@ -245,22 +245,26 @@ def test_hook_oracle_hooks_the_finger_pull_flap_from_below_with_the_lift_raised(
     assert low.opening < OPENED["hinge"] / 2, low.opening
 
 
-def test_the_hand_contact_record_names_the_worktop_a_knob_wedge_meets(tmp_path):
-    """experiments/kitchen/hand_contacts.py: in draw 2 of this drawer the hand's housing meets
-    the worktop as the knob's wedge slides in from above, and the drawer stays shut; in draw 0
-    the wedge opens it touching nothing off the part."""
+def test_a_knob_wedge_from_above_meets_the_worktop_and_from_below_it_levers(tmp_path):
+    """With the arm 0.80 m below a drawer's knob (`placements=[]`) the wedge comes from above,
+    and in draw 2 of this top drawer the hand's housing meets the worktop and the drawer stays
+    shut (experiments/kitchen/hand_contacts.py names it); in draw 0 the wedge opens it touching
+    nothing off the part. With the kitchen's placement (the handle 0.15 m above the base) the
+    wedge comes from below and draw 2 opens by a lever."""
     spec = importlib.util.spec_from_file_location(
         "hand_contacts", WORKSPACE / "experiments/kitchen/hand_contacts.py"
     )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    for seed, expected in ((2, "kitchen_worktop"), (0, None)):
-        cfg = _task(tmp_path, "knob_square_35", "drawer_w80_h20", *ORACLE).cfg
+    high = ("scene.robot.placements=[]",)
+    for extra, seed, expected in ((high, 2, "kitchen_worktop"), (high, 0, None), ((), 2, None)):
+        cfg = _task(tmp_path, "knob_square_35", "drawer_w80_h20", *ORACLE, *extra).cfg
         task = module.HandContactTask(cfg, training_configurations(cfg, 1, 0)[0], seed=seed)
         info = _episode(task)
         first = info["first_off_part"]
         if expected is None:
-            assert info["outcome"] == "success" and first is None, (info["outcome"], first)
+            assert info["outcome"] == "success" and first is None, (extra, seed, first)
+            assert info["strategy"] == "lever", (extra, seed, info["strategy"])
         else:
             assert info["outcome"] == "fail" and expected in first[0], (info["outcome"], first)
 

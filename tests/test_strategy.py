@@ -23,9 +23,9 @@ KNOBS = [("knob_round_20", "drawer_w40_h20"), ("knob_mushroom_30", "drawer_w60_h
 
 
 def _episodes(policy: str, part: str, base: str, n: int, *extra: str) -> list[dict]:
-    # the classifier is validated where the strategies are known to be executable: freestanding
-    # (in the kitchen a wedge from above on a top drawer meets the worktop, interference the
-    # kitchen tests and tables count, not a labelling question)
+    # the classifier is validated where the strategies are known to be executable: freestanding,
+    # no neighbouring board in the way (in the kitchen a knob wedge from above on a top drawer
+    # met the worktop: interference the kitchen tests and tables count, not a labelling question)
     cfg = load_config(
         [
             "scene=freestanding",

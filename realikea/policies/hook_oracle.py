@@ -103,13 +103,21 @@ def _features(facts: SceneFacts) -> dict:
     return asdict(found)
 
 
+# m of handle height above the arm's base under which a knob's wedge comes from below: the hand
+# tips up 0.55 rad there (+1.6 rad with the handle 0.15 m above the base), not with it 0.80 m
+# above (+0.56 at most: experiments/reach/README.md)
+LOW_HANDLE = 0.5
+
+
 def _knob_side(facts: SceneFacts) -> float:
-    """The part-frame y side (+1 or -1) a knob's wedge comes from: above on drawers and flaps,
-    the hinge's side on doors (traced on `knob_mushroom_38`, `door_left_w40_h80`: from the
-    other side the wrist ran joint 6 into its limit and the door stayed shut)."""
-    if facts.base_kind != "door":
-        return 1.0
-    return 1.0 if facts.to_part(facts.hinge_anchor)[1] > 0 else -1.0
+    """The part-frame y side (+1 or -1) a knob's wedge comes from: the hinge's side on doors
+    (traced on `knob_mushroom_38`, `door_left_w40_h80`: from the other side the wrist ran joint
+    6 into its limit and the door stayed shut); on drawers and flaps from above, or from below
+    where the arm stands under the handle (`LOW_HANDLE`): from above, the hand's housing meets
+    the worktop over a stack's top drawer (experiments/kitchen/results/hand_contacts.md)."""
+    if facts.base_kind == "door":
+        return 1.0 if facts.to_part(facts.hinge_anchor)[1] > 0 else -1.0
+    return -1.0 if facts.handle_pos[2] - facts.robot_base[2] < LOW_HANDLE else 1.0
 
 
 class HookOracle(WaypointPolicy):
