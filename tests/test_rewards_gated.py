@@ -5,6 +5,7 @@ the grasp gates, on scripted policies in the kitchen (pinch, hook, lever, a clos
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import pytest
@@ -343,7 +344,10 @@ def test_pinches_hooks_and_levers_reach_stage_4_and_hold_it_while_opening(
     library, part, policy, aperture
 ):
     steps = _episode(library, part, policy.split("=")[1], policy)
-    opening = [s for s in steps if s["open"] > 0.02]
+    # the steps that move the front out, past the first 2 cm (the lever from below ends where
+    # the arm's reach does, short of the drawer's stop, and lets go there)
+    moved = [s for r, s in itertools.pairwise(steps) if s["open"] > r["open"] + 1e-4]
+    opening = [s for s in moved if s["open"] > 0.02]
     assert opening and steps[-1]["open"] > 0.2  # the scripted policy opens the drawer
     # stage 4 while it opens (a hook may lose its contact for a step as the drawer hits its stop)
     assert sum(s["stage"] == 4 for s in opening) >= 0.9 * len(opening)
