@@ -15,20 +15,20 @@ Two ways of catching the part, chosen by its category:
   around the bar with the bodies clear of it and the pads' back faces behind it: pulling loads
   the bar with the pads' normal force along the opening direction, whatever the squeeze. A bar
   taller than the bodies' clearance gets a partial closure (the bodies still clear the bar).
-* **wedge** (knobs from above, or from the hinge's side on doors; finger-pull lips from
-  below): the hand is pitched so one finger leads; that finger's pad slides along its own
-  inner face past the feature's edge (the back rim of a knob's head, the inner bottom edge of a
-  lip) into the space behind it, then pulls. The inclined inner face pushes the edge out along
-  the opening direction and across it (towards the knob's axis, up on a lip), the front's
-  joint and the stiff arm taking the cross component: the normal force carries the pull. The
-  other jaw stays wide open, clear of it all. On doors the wrist follows a knob's whole turn
-  (`door_pull_wrist`), so the head does not turn off the pad; behind a lip it holds its pitch
-  (`lip_door_pull_wrist`): turning with the door, its first step tips the pad off the edge. The
-  pull drags the lip's edge along the door's arc, the hand keeping its offset to it
-  (`scripted.held_path`): the TCP's own arc is 4 cm off the edge's, and the arm fought the
-  door along it until joint 6 stood at its torque limit. On a flap the wrist follows half of
-  its turn behind a lip (`lip_flap_pull_wrist`): following 0.3, as for bars and knobs, friction
-  carried over half the pull in a fifth of the openings (train parts:
+* **wedge** (knobs from above, from below where the arm stands under the handle, or from the
+  hinge's side on doors; finger-pull lips from below): the hand is pitched so one finger leads;
+  that finger's pad slides along its own inner face past the feature's edge (the back rim of a
+  knob's head, the inner bottom edge of a lip) into the space behind it, then pulls. The
+  inclined inner face pushes the edge out along the opening direction and across it (towards the
+  knob's axis, up on a lip), the front's joint and the stiff arm taking the cross component: the
+  normal force carries the pull. The other jaw stays wide open, clear of it all. On doors the
+  wrist follows a knob's whole turn (`door_pull_wrist`), so the head does not turn off the pad;
+  behind a lip it holds its pitch (`lip_door_pull_wrist`): turning with the door, its first step
+  tips the pad off the edge. The pull drags the lip's edge along the door's arc, the hand
+  keeping its offset to it (`scripted.held_path`): the TCP's own arc is 4 cm off the edge's, and
+  the arm fought the door along it until joint 6 stood at its torque limit. On a flap the wrist
+  follows half of its turn behind a lip (`lip_flap_pull_wrist`): following 0.3, as for bars and
+  knobs, friction carried over half the pull in a fifth of the openings (train parts:
   experiments/kitchen/README.md).
 
 A part with nothing to get behind (a knob without an undercut: cylinders, cones; a bar without
