@@ -1,9 +1,10 @@
 """What `hook_oracle`'s hand runs into where it falls short: `realikea eval`'s own episodes of
 one category x kind (test parts, kitchen, high, randomized poses, `env.seed=0`; the eval's env
-pool, in one process), each failed or partial one with its configuration, the oracle's note if
-it planned nothing, the front's final opening, and the first geoms off the part the hand or its
-fingers touched (`front` for the moving panel around the part, else the kitchen's boards) with
-the control step. Prints a markdown table and the count per first contact.
+pool, in one process), each failed or partial one, or successful but not labelled hook or
+lever, with its configuration, its label and friction share, the oracle's note if it planned
+nothing, the front's final opening, and the first geoms off the part the hand or its fingers
+touched (`front` for the moving panel around the part, else the kitchen's boards) with the
+control step. Prints a markdown table and the count per first contact.
 
     python experiments/kitchen/hand_contacts.py knob drawer [--episodes 50] [--set OVERRIDE]
 """
@@ -17,6 +18,7 @@ from realikea.eval.setup import eval_setup, evaluate
 from realikea.tasks.open_task import OpenTask, StepResult
 
 HAND_BODIES = ("hand", "left_finger", "right_finger")
+FORM_CLOSURE = ("hook", "lever")  # the labels the issue's aim credits
 
 
 class HandContactTask(OpenTask):
@@ -73,11 +75,12 @@ def main() -> None:
     outcomes = Counter(e.get("outcome", "fail") for e in episodes)
     print(f"`realikea eval {' '.join(overrides)}`: "
           + ", ".join(f"{o} {n}" for o, n in sorted(outcomes.items())) + "\n")  # fmt: skip
-    print("| configuration | env | outcome | opening | first contact off the part (step) |")
-    print("|---|---:|---|---:|---|")
+    print("| configuration | env | outcome | label (friction share) | opening | first contact off "
+          "the part (step) |")  # fmt: skip
+    print("|---|---:|---|---|---:|---|")
     causes = Counter()
     for e in episodes:
-        if e.get("outcome") == "success":
+        if e.get("outcome") == "success" and e.get("strategy") in FORM_CLOSURE:
             continue
         first = e.get("first_off_part")
         if "policy_note" in e:
@@ -86,11 +89,13 @@ def main() -> None:
         else:
             cause = ", ".join(first[0]) if first else "none"
             shown = f"{cause} ({first[1]})" if first else "none"
-        causes[cause] += 1
+        if e.get("outcome") != "success":
+            causes[cause] += 1
+        label = f"{e.get('strategy', '-')} ({e.get('friction_share', float('nan')):.2f})"
         print(f"| {e.get('config_id', '?')} | {e['env']} | {e.get('outcome', 'cut short')} | "
-              f"{e.get('opening', float('nan')):.2f} | {shown} |")  # fmt: skip
-    print("\nfirst contact off the part, episodes short of success: "
-          + ", ".join(f"{c} {n}" for c, n in causes.most_common()))  # fmt: skip
+              f"{label} | {e.get('opening', float('nan')):.2f} | {shown} |")  # fmt: skip
+    counted = ", ".join(f"{c} {n}" for c, n in causes.most_common()) or "no such episode"
+    print(f"\nfirst contact off the part, episodes short of success: {counted}")
 
 
 if __name__ == "__main__":
