@@ -15,9 +15,10 @@ import argparse
 from collections import Counter
 
 from realikea.eval.setup import eval_setup, evaluate
+from realikea.sim.robot import FINGER_BODIES, HAND_BODY
+from realikea.sim.scene import FRONT_BODY, subtree_geoms
 from realikea.tasks.open_task import OpenTask, StepResult
 
-HAND_BODIES = ("hand", "left_finger", "right_finger")
 FORM_CLOSURE = ("hook", "lever")  # the labels the issue's aim credits
 
 
@@ -27,9 +28,14 @@ class HandContactTask(OpenTask):
 
     episode_keys = (*OpenTask.episode_keys, "first_off_part", "config_id")
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        model = self.model
+        self._hand = {model.body(name).id for name in (HAND_BODY, *FINGER_BODIES)}
+        self._front_geoms = set(subtree_geoms(model, model.body(FRONT_BODY).id))  # the part's too
+
     def reset(self):
         self._first, self._t = None, 0
-        self._hand = {self.model.body(name).id for name in HAND_BODIES}
         return super().reset()
 
     def evaluate(self, ik_ok: bool) -> StepResult:
@@ -44,16 +50,17 @@ class HandContactTask(OpenTask):
         return result
 
     def _off_part(self) -> set[str]:
-        """Names of the geoms off the part touching the hand now."""
+        """Names of the geoms off the part touching the hand now (`front` for the moving
+        front's own)."""
         model, data, names = self.model, self.data, set()
         for contact in data.contact[: data.ncon]:
             g1, g2 = int(contact.geom1), int(contact.geom2)
             in1, in2 = model.geom_bodyid[g1] in self._hand, model.geom_bodyid[g2] in self._hand
-            if in1 == in2:
+            other = g2 if in1 else g1
+            if in1 == in2 or model.geom_bodyid[other] == self._part:
                 continue
-            other = model.geom(g2 if in1 else g1).name or "unnamed"
-            if "part_collision" not in other:
-                names.add("front" if other.endswith("front_collision") else other.split("/")[-1])
+            name = model.geom(other).name or "unnamed"
+            names.add("front" if other in self._front_geoms else name.split("/")[-1])
         return names
 
 
