@@ -28,13 +28,8 @@ def main() -> None:
     parser.add_argument("name", help="results folder under experiments/generalist/results/")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--seed", type=int, default=1000, help="env.seed of the draw")
-    parser.add_argument(
-        "--modes",
-        nargs="+",
-        choices=MODES,
-        default=list(MODES),
-        help="resistance modes to evaluate (default: all three)",
-    )
+    parser.add_argument("--modes", nargs="+", choices=MODES, default=list(MODES),
+                        help="resistance modes to evaluate (default: all three)")  # fmt: skip
     parser.add_argument("--kinds", nargs="+", choices=KINDS, default=list(KINDS),
                         help="base kinds to evaluate (default: all three)")  # fmt: skip
     parser.add_argument("overrides", nargs="*", help="realikea eval overrides for every cell")
