@@ -86,7 +86,7 @@ def urdf_checks() -> tuple[float, float]:
 def sim_boxes() -> tuple[float, list[tuple[str, np.ndarray, np.ndarray]]]:
     """(mount below the flange, [(name, lo, hi)]) of our left finger's box geoms, finger frame."""
     gripper = GripperModel.from_config(load_config([]).gripper)
-    model = mujoco.MjModel.from_xml_string(robot_xml(gripper, arm=False))
+    model = mujoco.MjModel.from_xml_string(robot_xml(gripper, arm=False, visuals=False))
     body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, FINGER_BODIES[0])
     assert np.allclose(model.body_quat[body], (1, 0, 0, 0))
     assert np.allclose(model.body_pos[body][:2], 0)

@@ -102,7 +102,9 @@ class IKController:
     ):
         if solver != "daqp":
             raise RealIkeaError(f"the IK hands its QP to daqp directly, got solver={solver!r}")
-        spec = mujoco.MjSpec.from_string(robot_xml(_KINEMATIC_GRIPPER, fingers=False))
+        spec = mujoco.MjSpec.from_string(
+            robot_xml(_KINEMATIC_GRIPPER, fingers=False, visuals=False)
+        )
         spec.body("link0").pos = np.asarray(base_pos, float)
         spec.body("link0").quat = yaw_quat(base_yaw)
         self.model = spec.compile()

@@ -10,6 +10,12 @@ hand's 0.73 kg is Franka's datasheet mass.
 Torque limits 87/12 Nm are Franka's. Collision: capsules per link and boxes for the hand and
 fingers, sized to the real robot's envelope, so contacts stay cheap primitive pairs.
 
+Looks: the Panda's own meshes (pybullet_data's `franka_panda/meshes/`, Apache-2.0, see
+realikea/sim/panda_visuals.py) drawn on each link, the hand and both fingers as visual-only
+geoms (group 2, no contact, no mass; every body keeps its explicit inertial); the collision
+primitives are then in group 3, which MuJoCo does not draw by default. `robot_xml(...,
+visuals=False)` leaves the meshes out (and draws the primitives): the same dynamics.
+
 The hand sits at the flange (d = 0.107) turned -45 deg about z as on the real robot. Its two
 fingers slide 0-0.04 m each, are coupled by the fixed tendon `split` (half of each finger's
 opening) and a joint equality, and one actuator `gripper` drives the tendon. Two drives
@@ -20,11 +26,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
+from realikea.sim.panda_visuals import Piece, panda_pieces
 
 # Modified DH (Craig): a_{i-1}, d_i, alpha_{i-1}, lower, upper (m, rad). Row 8 is the flange.
 DH_TABLE = (
@@ -117,6 +125,8 @@ FINGER_BODY_CENTRE = (0.0, 0.015, 0.018)
 PAD_SOLREF = (0.004, 1.0)
 PAD_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 HOUSING_FRICTION = 0.5  # painted aluminium / plastic housing
+# geom groups: MuJoCo draws groups 0-2 by default. With the meshes the primitives are hidden.
+VISUAL_GROUP, SOLID_GROUP, COLLISION_GROUP = 2, 1, 3
 
 
 @dataclass(frozen=True)
@@ -236,8 +246,21 @@ def _box_inertia(mass: float, half) -> tuple[float, float, float]:
     return (mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12)
 
 
-def _finger_xml(name: str, joint: str, pad: str, gripper: GripperModel, flipped: bool) -> str:
+def _visual_xml(pieces: tuple[Piece, ...], prefix: str) -> str:
+    """Visual-only mesh geoms (class `visual`) at the body's origin, one per coloured piece."""
+    return "".join(
+        f'<geom name="{prefix}_visual{k}" class="visual" mesh="panda_{p.name}" '
+        f'rgba="{_f(p.rgba)}"/>'
+        for k, p in enumerate(pieces)
+    )
+
+
+def _finger_xml(
+    name: str, joint: str, pad: str, gripper: GripperModel, flipped: bool, visuals: bool
+) -> str:
     quat = ' quat="0 0 0 1"' if flipped else ""
+    # the URDF's right finger is its left one turned half a turn about z, as this body is
+    mesh = _visual_xml(panda_pieces()["finger"], name) if visuals else ""
     inertia = _box_inertia(gripper.finger_mass, (0.009, 0.011, 0.027))
     return f"""
       <body name="{name}" pos="0 0 {FINGER_MOUNT_Z}"{quat}>
@@ -247,29 +270,33 @@ def _finger_xml(name: str, joint: str, pad: str, gripper: GripperModel, flipped:
         <geom name="{name}_body" class="housing" type="box" size="{_f(FINGER_BODY_HALF)}"
               pos="{_f(FINGER_BODY_CENTRE)}"/>
         <geom name="{pad}" class="pad" type="box" size="{_f(PAD_HALF)}" pos="{_f(PAD_CENTRE)}"/>
+        {mesh}
       </body>"""
 
 
-def _hand_xml(gripper: GripperModel, pos, quat, fingers: bool = True) -> str:
+def _hand_xml(gripper: GripperModel, pos, quat, fingers: bool = True, visuals: bool = True) -> str:
     centre, half = HAND_BOX
     inertia = _box_inertia(HAND_MASS, half)
     finger_bodies = (
-        _finger_xml(FINGER_BODIES[0], FINGER_JOINTS[0], PAD_GEOMS[0], gripper, False)
-        + _finger_xml(FINGER_BODIES[1], FINGER_JOINTS[1], PAD_GEOMS[1], gripper, True)
+        _finger_xml(FINGER_BODIES[0], FINGER_JOINTS[0], PAD_GEOMS[0], gripper, False, visuals)
+        + _finger_xml(FINGER_BODIES[1], FINGER_JOINTS[1], PAD_GEOMS[1], gripper, True, visuals)
         if fingers
         else ""
     )
+    mesh = _visual_xml(panda_pieces()[HAND_BODY], HAND_BODY) if visuals else ""
     return f"""
     <body name="{HAND_BODY}" pos="{_f(pos)}" quat="{_f(quat)}" gravcomp="1">
       <inertial pos="{_f(centre)}" mass="{HAND_MASS}" diaginertia="{_f(inertia)}"/>
       <geom name="hand_housing" class="housing" type="box" size="{_f(half)}" pos="{_f(centre)}"/>
       <site name="{TCP_SITE}" pos="0 0 {TCP_Z}" size="0.004" rgba="1 0.2 0.2 1" group="4"/>
-      {finger_bodies}
+      {mesh}{finger_bodies}
     </body>"""
 
 
-def _arm_xml(hand: str) -> str:
-    """link0 .. link7 nested from the DH table, the hand at the flange."""
+def _arm_xml(hand: str, visuals: bool = True) -> str:
+    """link0 .. link7 nested from the DH table, the hand at the flange; each link's mesh in its
+    body's frame (the URDF's link frame i is the Craig frame i this table gives body i)."""
+    pieces = panda_pieces() if visuals else {}
     inner = hand
     for i in range(7, 0, -1):
         a, d, alpha, lo, hi = DH_TABLE[i - 1]
@@ -281,6 +308,7 @@ def _arm_xml(hand: str) -> str:
             f'fromto="{_f(p0)} {_f(p1)}"/>'
             for k, (p0, p1, r) in enumerate(LINK_CAPSULES[i - 1])
         )
+        geoms += _visual_xml(pieces.get(f"link{i}", ()), f"link{i}")
         inner = f"""
   <body name="link{i}" pos="{_f(pos)}" quat="{_f(_quat_x(alpha))}" gravcomp="1">
     <inertial pos="{_f(com)}" mass="{mass}" fullinertia="{_f(inertia)}"/>
@@ -291,7 +319,7 @@ def _arm_xml(hand: str) -> str:
 <body name="link0">
   <inertial pos="-0.041 0 0.05" mass="{BASE_MASS}" diaginertia="0.00315 0.00388 0.004285"/>
   <geom name="link0_c0" class="link" type="cylinder" size="0.09 0.07" pos="-0.03 0 0.07"/>
-  {inner}
+  {_visual_xml(pieces.get("link0", ()), "link0")}{inner}
 </body>"""
 
 
@@ -301,6 +329,7 @@ def robot_xml(
     fingers: bool = True,
     hand_pos=(0.0, 0.0, 0.5),
     command_filter: float = ARM_COMMAND_FILTER,
+    visuals: bool = True,
 ) -> str:
     """The robot as a standalone MJCF document.
 
@@ -308,11 +337,13 @@ def robot_xml(
     axis pointing down the world z axis (gripper tests). With `fingers=False` the fingers, their
     tendon, equality and actuator are left out (a kinematic model for IK). `command_filter` is
     the time constant (s) of the arm actuators' command filter; 0 applies commands at once.
+    `visuals` draws the Panda's meshes (visual only) and hides the collision primitives;
+    without them the primitives are drawn. Either way the same collision, masses and dynamics.
     """
     dynamics = f'dyntype="filterexact" dynprm="{command_filter:g}"' if command_filter > 0 else ""
     if arm:
         yaw = (math.cos(HAND_YAW / 2), 0.0, 0.0, math.sin(HAND_YAW / 2))
-        body = _arm_xml(_hand_xml(gripper, (0.0, 0.0, FLANGE_D), yaw, fingers))
+        body = _arm_xml(_hand_xml(gripper, (0.0, 0.0, FLANGE_D), yaw, fingers, visuals), visuals)
         actuators = "".join(
             f'<general name="{act}" joint="{jnt}" ctrlrange="{lo} {hi}" '
             f'forcerange="{-tau} {tau}" gainprm="{kp}" biasprm="0 {-kp} {-kv}" {dynamics}/>'
@@ -321,7 +352,7 @@ def robot_xml(
             )
         )
     else:
-        body = _hand_xml(gripper, hand_pos, (0.0, 1.0, 0.0, 0.0), fingers)
+        body = _hand_xml(gripper, hand_pos, (0.0, 1.0, 0.0, 0.0), fingers, visuals)
         actuators = ""
     coupling = ""
     if fingers:
@@ -341,6 +372,19 @@ def robot_xml(
     <joint joint1="{FINGER_JOINTS[0]}" joint2="{FINGER_JOINTS[1]}" solref="0.005 1"
            solimp="0.95 0.99 0.001"/>
   </equality>"""
+    group = COLLISION_GROUP if visuals else SOLID_GROUP
+    assets = ""
+    if visuals:
+        # the Panda's meshes from the installed pybullet_data (Apache-2.0, Franka Emika GmbH:
+        # pybullet_data/franka_panda/LICENSE.txt), split by colour into the cache; absolute
+        # paths, so no meshdir touches the meshes of a configuration attached to this model
+        used = {"link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7"}
+        used = (used if arm else set()) | {HAND_BODY} | ({"finger"} if fingers else set())
+        assets = "".join(
+            f'\n    <mesh name="panda_{p.name}" file={quoteattr(str(p.file))} inertia="shell"/>'
+            for body, pieces in panda_pieces().items() if body in used for p in pieces
+        )  # fmt: skip
+        assets = f"\n  <asset>{assets}\n  </asset>"
     return f"""<mujoco model="panda_{gripper.name}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="0.002" integrator="implicitfast"/>
@@ -348,19 +392,22 @@ def robot_xml(
     <joint armature="{ARM_ARMATURE}" damping="{ARM_DAMPING}" actuatorgravcomp="true"/>
     <general dyntype="none" biastype="affine"/>
     <default class="link">
-      <geom contype="2" conaffinity="1" group="1" friction="{HOUSING_FRICTION} 0.005 0.0001"
+      <geom contype="2" conaffinity="1" group="{group}" friction="{HOUSING_FRICTION} 0.005 0.0001"
             rgba="0.92 0.93 0.93 1"/>
     </default>
     <default class="housing">
-      <geom contype="2" conaffinity="1" group="1" friction="{HOUSING_FRICTION} 0.005 0.0001"
+      <geom contype="2" conaffinity="1" group="{group}" friction="{HOUSING_FRICTION} 0.005 0.0001"
             rgba="0.25 0.25 0.25 1"/>
     </default>
     <default class="pad">
-      <geom contype="2" conaffinity="1" group="1" condim="4" rgba="0.1 0.1 0.1 1"
+      <geom contype="2" conaffinity="1" group="{group}" condim="4" rgba="0.1 0.1 0.1 1"
             friction="{gripper.pad_friction} {gripper.pad_torsion} 0.0001"
             solref="{_f(PAD_SOLREF)}" solimp="{_f(PAD_SOLIMP)}"/>
     </default>
-  </default>
+    <default class="visual">
+      <geom type="mesh" contype="0" conaffinity="0" group="{VISUAL_GROUP}" mass="0"/>
+    </default>
+  </default>{assets}
   <worldbody>
     {body}
   </worldbody>{coupling}

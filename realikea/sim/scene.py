@@ -93,12 +93,12 @@ def _look_at(pos, target) -> np.ndarray:
     return quat
 
 
-def _skeleton(cfg: DictConfig) -> mujoco.MjSpec:
+def _skeleton(cfg: DictConfig, visuals: bool = True) -> mujoco.MjSpec:
     """The robot on the floor with lights and the physics options of the config."""
     sim = cfg.sim
     gripper = GripperModel.from_config(cfg.gripper)
     spec = mujoco.MjSpec.from_string(
-        robot_xml(gripper, command_filter=float(sim.robot.command_filter))
+        robot_xml(gripper, command_filter=float(sim.robot.command_filter), visuals=visuals)
     )
     base = spec.body("link0")
     base.pos = np.asarray(sim.robot.base_pos, float)
@@ -243,16 +243,18 @@ def _platform(spec: mujoco.MjSpec, base: np.ndarray) -> None:
 
 
 def build_scene(
-    config_mjcf: Path, cfg: DictConfig, place: Placement | None = None
+    config_mjcf: Path, cfg: DictConfig, place: Placement | None = None, visuals: bool = True
 ) -> mujoco.MjModel:
     """Compile the robot (cfg.gripper) in front of one configuration (cfg.resistance applied to
     its front joint) in cfg.scene, with the contact model of cfg.contact and cfg.sim's physics;
     `place` (the part's `placement`; by default the one naming no category) sets the kitchen
-    robot's height below the handle."""
+    robot's height below the handle. `visuals` draws the robot as the Panda's meshes (robot_xml;
+    the same dynamics either way). The configuration's meshes stay relative to its own MJCF
+    (MuJoCo resolves them from that file's folder); the robot's are absolute paths."""
     config_mjcf = Path(config_mjcf)
     if not config_mjcf.is_file():
         raise RealIkeaError(f"MJCF not found: {config_mjcf}")
-    spec = _skeleton(cfg)
+    spec = _skeleton(cfg, visuals)
     cabinet = mujoco.MjSpec.from_file(str(config_mjcf))
     # the parent's options rule; copying them avoids MuJoCo's attach-conflict warning
     cabinet.option.cone, cabinet.option.impratio = spec.option.cone, spec.option.impratio
