@@ -415,6 +415,26 @@ def test_iterations_to_success_is_the_first_window_reaching_the_level():
     assert iterations_to_success({"metrics": {}}) is None
 
 
+def test_a_last_partial_window_crossing_the_level_does_not_count_as_learned():
+    # 400 iterations, success 0.52 over the last 19: the best full window of 20 (from 380)
+    # averages 0.494; the window from 381, cut off by the end of the run, 0.52
+    its = list(range(400))
+    values = [0.0] * 381 + [0.52] * 19
+    run = {"metrics": {"/episode/success": (its, values)}}
+    assert iterations_to_success(run) is None
+    # one more iteration completes the window from 381, which then counts
+    longer = {"metrics": {"/episode/success": (its + [400], values + [0.52])}}
+    assert iterations_to_success(longer) == 381
+
+
+def test_the_trailing_mean_of_half_successes_is_exactly_one_half():
+    # these 20 sum to 10; weighted by 0.05 each they summed to 0.49999999999999994
+    values = [0, 0.5, 1, 1, 0, 0.25, 0.75, 0, 0.5, 1]
+    values += [0.75, 0, 0.25, 0, 0.5, 1, 0.75, 0.75, 0.75, 0.25]
+    _, means = trailing_mean(range(20), values, window=20)
+    assert means.tolist() == [0.5]
+
+
 def test_the_plateau_check_compares_the_last_window_with_the_one_before():
     its = list(range(300))
     climbing = {"metrics": {"/episode/success": (its, [0.0] * 100 + [0.2] * 100 + [0.5] * 100)}}

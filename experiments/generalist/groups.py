@@ -4,9 +4,9 @@ experiments/generalist/results/groups.md.
     python experiments/generalist/groups.py
 
 Per run (results/<recipe>/s<seed>/metrics.csv, train parts) and group: the training success
-averaged over the last 25 iterations, and the first iteration at which that 25-iteration mean
-reached 0.5 ("never" if it did not). A training measure, not an evaluation: the test parts are
-`evaluate.py`'s.
+averaged over the last 25 iterations, and the last iteration of the first full 25-iteration
+window whose mean reached 0.5 ("never" if none did). A training measure, not an evaluation: the
+test parts are `evaluate.py`'s.
 """
 
 from __future__ import annotations
@@ -35,7 +35,9 @@ def group_row(run: Path) -> list[str]:
                 cells.append("–")
                 continue
             mean = running_mean(values, GROUP_WINDOW)
-            first = next((its[i] for i, m in enumerate(mean) if m >= LEARNED), None)
+            # full windows only (running_mean averages fewer at the start)
+            full = range(GROUP_WINDOW - 1, len(mean))
+            first = next((its[i] for i in full if mean[i] >= LEARNED), None)
             cells.append(f"{mean[-1]:.2f} ({'never' if first is None else first})")
     return cells
 
@@ -47,7 +49,7 @@ def main() -> None:
         "",
         f"`python experiments/generalist/groups.py`: train parts; per group the mean over the "
         f"last {GROUP_WINDOW} iterations and, in brackets, the first iteration at which the "
-        f"{GROUP_WINDOW}-iteration mean reached {LEARNED}.",
+        f"{GROUP_WINDOW}-iteration mean reached {LEARNED} (full windows only).",
         "",
         "| run | " + " | ".join(groups) + " |",
         "|---|" + "---|" * len(groups),

@@ -101,9 +101,13 @@ def iterations_to_success(
     run: dict, level: float = 0.5, window: int = SUCCESS_WINDOW
 ) -> int | None:
     """The first iteration from which the training success, averaged over the next `window`
-    iterations, reaches `level` (None if it never does)."""
+    iterations, reaches `level` (None if it never does). A window counts only when it is full,
+    ending at or before the run's last iteration: the mean of a run's last few iterations, a
+    window cut off by the end of training, never counts as learned."""
     its, values = (np.asarray(x) for x in run["metrics"].get("/episode/success", ([], [])))
     for start in np.unique(its):
+        if start + window - 1 > its.max():  # the window runs past the last iteration
+            break
         chosen = (its >= start) & (its < start + window)
         if values[chosen].mean() >= level:
             return int(start)
@@ -133,7 +137,9 @@ def trailing_mean(its, values, window: int) -> tuple[np.ndarray, np.ndarray]:
         return its[:0], values[:0]
     order = np.argsort(its, kind="stable")
     its, values = its[order], values[order]
-    means = np.convolve(values, np.ones(window) / window, mode="valid")
+    # summed, then divided: a window of exactly half successes averages 0.5, as in
+    # iterations_to_success, not a rounding error below it
+    means = np.convolve(values, np.ones(window), mode="valid") / window
     return its[window - 1 :], means
 
 
