@@ -1,28 +1,90 @@
 #!/usr/bin/env bash
-# Read the recorded datasets back with LeRobot itself (tests/test_lerobot.py, lerobot 0.4.4), in a
-# throw-away venv beside the project's Python. Not part of the default install or CI, because:
-# - every lerobot release pins torch below the project's 2.13.0 (0.4.4: torch<2.11), so lerobot
-#   goes in with --no-deps, over the packages its LeRobotDataset imports;
-# - PyPI's torchvision is linked against CUDA torch: beside the CPU build its _C library does not
-#   load, and its import then fails registering fake kernels for two ops it never defined
-#   (torchvision::nms, qnms). sitecustomize.py defines their schemas first; no image op runs.
-# Usage: bash experiments/lerobot_sample/readback.sh [VENV]   (default: a temporary folder)
+# Record the sample's eval as a LeRobot dataset and read it back with lerobot's own
+# LeRobotDataset, in one command:
+# 1. the project's Python (. ./env.sh) runs the README's eval with record= into a temporary folder
+#    (OVERRIDEs, e.g. paths.library=DIR, are appended to it) and compares its data file with the
+#    committed sample's;
+# 2. the read-back environment (make_env.sh: torch 2.14.1, torchvision 0.29.1, lerobot 0.4.4; made
+#    first when LEROBOT_VENV, default .venv-lerobot, has none) runs tests/test_lerobot_readback.py
+#    on that export and on the committed samples (no stub: the test checks that the installed
+#    lerobot and torchvision are the ones loaded, torchvision's compiled ops included), then
+#    prints what LeRobotDataset read;
+# 3. that output, with the command, the versions and the date, goes to results/readback.md.
+# Usage: bash experiments/lerobot_sample/readback.sh [OVERRIDE ...]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-VENV=${1:-$(mktemp -d)/lerobot}
-python3 -m venv --system-site-packages "$VENV"
-echo "torch==2.13.0" > "$VENV/constraints.txt"
-"$VENV/bin/pip" install -q --disable-pip-version-check -c "$VENV/constraints.txt" \
-  torchvision==0.28.0 'av>=15,<16' 'datasets>=4,<4.2' 'huggingface-hub>=0.34.2,<0.36' \
-  'accelerate>=1.10,<2'
-"$VENV/bin/pip" install -q --disable-pip-version-check --no-deps lerobot==0.4.4
-SITE=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_path("purelib"))')
-cat > "$SITE/sitecustomize.py" <<'PY'
-import torch
+VENV=${LEROBOT_VENV:-.venv-lerobot}
+SAMPLE=experiments/lerobot_sample/results
+if [ ! -x "$VENV/bin/python" ]; then
+  bash experiments/lerobot_sample/make_env.sh "$VENV"
+fi
+OUT=$(mktemp -d)
+trap 'rm -rf "$OUT"' EXIT
+EXPORT=$OUT/heuristic_pull
+EVAL=(realikea eval policy=heuristic_pull asset=all resistance=high dr=randomized episodes=4
+  env.num_workers=0 task.episode_seconds=8 "record=$EXPORT" "$@")
 
-_TORCHVISION_OPS = torch.library.Library("torchvision", "FRAGMENT")
-for _op in ("nms", "qnms"):
-    _TORCHVISION_OPS.define(f"{_op}(Tensor dets, Tensor scores, float iou_threshold) -> Tensor")
+readback() {
+  echo "realikea at commit $(git rev-parse --short HEAD), with $(git status --porcelain -- realikea |
+    wc -l) uncommitted file(s) under realikea/"
+  echo "\$ ${EVAL[*]}   # the project's Python"
+  (. ./env.sh && "${EVAL[@]}")
+  if cmp -s "$EXPORT/data/chunk-000/file-000.parquet" "$SAMPLE/heuristic_pull/data/chunk-000/file-000.parquet"; then
+    echo "its data file: identical to $SAMPLE/heuristic_pull's"
+  else
+    echo "its data file: differs from $SAMPLE/heuristic_pull's"
+  fi
+  echo
+  echo "\$ REALIKEA_LEROBOT_EXPORT=$EXPORT $VENV/bin/python -m pytest -q -p no:cacheprovider --noconftest tests/test_lerobot_readback.py"
+  REALIKEA_LEROBOT_EXPORT=$EXPORT "$VENV/bin/python" -m pytest -q -p no:cacheprovider \
+    --noconftest tests/test_lerobot_readback.py | tee "$OUT/pytest.log"
+  if grep -q skipped "$OUT/pytest.log"; then
+    echo "a read-back test was skipped" >&2
+    exit 1
+  fi
+  echo
+  echo "\$ $VENV/bin/python   # LeRobotDataset(...) on each dataset"
+  "$VENV/bin/python" - "$EXPORT" "$SAMPLE"/*/ <<'PY'
+import platform
+import sys
+from importlib.metadata import version
+from pathlib import Path
+
+import torch
+from lerobot.datasets.lerobot_dataset import LeRobotDataset
+
+print(
+    f"Python {platform.python_version()}; torch {torch.__version__} (CUDA available: "
+    f"{torch.cuda.is_available()}), torchvision {version('torchvision')}, "
+    f"lerobot {version('lerobot')}, datasets {version('datasets')}, pandas {version('pandas')}, "
+    f"pyarrow {version('pyarrow')}"
+)
+for root in map(Path, sys.argv[1:]):
+    ds = LeRobotDataset(f"realikea/{root.name}", root=root)
+    print(
+        f"{root}: {len(ds)} frames, {ds.num_episodes} episodes, fps {ds.fps}, "
+        f"{len(ds.meta.tasks)} tasks, {len(ds.features)} features"
+    )
+    episodes = ds.meta.episodes
+    for k in range(ds.num_episodes):
+        print(
+            f"  episode {episodes['episode_index'][k]}: {episodes['config_id'][k]}, "
+            f"{episodes['length'][k]} frames, {episodes['outcome'][k]}, "
+            f"{episodes['strategy'][k]}, {episodes['termination'][k]}"
+        )
 PY
-"$VENV/bin/python" -c 'import lerobot; from importlib.metadata import version; print("lerobot", version("lerobot"))'
-"$VENV/bin/python" -m pytest -q -p no:cacheprovider tests/test_lerobot.py -rs
+}
+
+START=$(date +%s)
+readback | tee "$OUT/output.txt"
+{
+  echo "# LeRobot read-back"
+  echo
+  echo "Written by \`bash experiments/lerobot_sample/readback.sh${*:+ $*}\` on $(date -u +%Y-%m-%d)"
+  echo "(UTC), in $(($(date +%s) - START)) s; its output:"
+  echo
+  echo '```'
+  cat "$OUT/output.txt"
+  echo '```'
+} >"$SAMPLE/readback.md"
+echo "written: $SAMPLE/readback.md"
