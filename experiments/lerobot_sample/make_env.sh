@@ -3,8 +3,8 @@
 # LeRobotDataset (experiments/lerobot_sample/readback.sh runs it): a venv of its own, because the
 # project pins torch 2.13.0 (the CPU build) and lerobot imports torchvision, whose registry wheels
 # are built against the registry's torch. So: torch 2.14.1 and torchvision 0.29.1 as the registry
-# ships them (CUDA builds; they load and run on a CPU-only machine, pulling ~4 GB of nvidia-*
-# wheels), lerobot 0.4.4 with --no-deps (it declares torch<2.11 and torchvision<0.26 and a
+# ships them (CUDA 13.0 builds that load and run on a CPU-only machine; the nvidia-* CUDA wheels
+# and triton come with them, 4.1 GB of the venv's 5.9 GB), lerobot 0.4.4 with --no-deps (it declares torch<2.11 and torchvision<0.26 and a
 # robot stack: draccus, rerun-sdk, wandb, opencv, pynput, pyserial, diffusers, ...), and of its
 # Requires-Dist only what `lerobot.datasets.lerobot_dataset` imports when it loads and reads a
 # dataset: datasets, huggingface-hub, accelerate (lerobot.utils.utils), av (video_utils, imported
