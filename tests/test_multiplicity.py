@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from realikea.reports.multiplicity import Difference, holm_lines
 
 
@@ -20,8 +22,14 @@ def test_a_difference_significant_alone_need_not_survive_its_family():
     assert not any(line.startswith("| null") for line in lines)  # only those significant alone
 
 
-def test_several_seeds_use_the_bootstrap_and_one_seed_newcombe():
+def test_several_seeds_are_tested_at_the_seed_level_and_one_seed_by_newcombe():
     one = Difference("one", [(30, 50)], [(20, 50)])
     several = Difference("several", [(30, 50), (32, 50)], [(20, 50), (18, 50)])
     assert one.interval()[1:] != several.interval()[1:]
-    assert 0 < one.p() < 0.05 and several.p() < 0.05
+    assert 0 < one.p() < 0.05 and one.significant()
+    # the bootstrap's interval excludes zero, but two seeds a side are 6 splits: p = 2 / 6
+    assert several.interval()[1] > 0
+    assert several.p() == pytest.approx(1 / 3) and not several.significant()
+    lines = holm_lines([one, several], "Family")
+    assert "Significant at 5 %: 1 uncorrected" in "\n".join(lines)
+    assert "permutation test over the seeds" in "\n".join(lines)

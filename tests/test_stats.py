@@ -16,6 +16,7 @@ from realikea.eval.stats import (
     seed_difference,
     seed_difference_p,
     seed_interval,
+    seed_permutation_p,
     significant,
     wilson,
 )
@@ -88,6 +89,23 @@ def test_p_values_agree_with_the_intervals():
     a, b = [(45, 50), (5, 50)], [(30, 50), (20, 50)]
     _, lo, hi = seed_difference(a, b)
     assert lo < 0 < hi and seed_difference_p(a, b) > 0.05
+
+
+def test_the_seed_permutation_test_by_hand():
+    # three seeds a side, every CoACD seed above every hull seed: of the C(6, 3) = 20 splits of
+    # the six rates only the observed one and its mirror reach |0.8 - 0.1| = 0.7, so p = 2 / 20
+    a, b = [(45, 50), (40, 50), (35, 50)], [(5, 50), (10, 50), (0, 50)]
+    assert seed_permutation_p(a, b) == pytest.approx(0.1)
+    assert seed_permutation_p(b, a) == pytest.approx(0.1)  # two-sided
+    # rates 1.0, 0.5 against 0.0, 0.5: observed |0.75 - 0.25| = 0.5; of the 6 splits
+    # {1.0, 0.5}, {1.0, 0.5'}, {0.0, 0.5}, {0.0, 0.5'} reach 0.5, {1.0, 0.0}, {0.5, 0.5'} give 0
+    assert seed_permutation_p([(10, 10), (5, 10)], [(0, 10), (5, 10)]) == pytest.approx(4 / 6)
+    # four seeds a side, fully separated: 2 / C(8, 4) = 2 / 70 < 0.05
+    four = seed_permutation_p([(9, 10)] * 2 + [(8, 10)] * 2, [(1, 10), (2, 10)] * 2)
+    assert four == pytest.approx(2 / 70)
+    assert seed_permutation_p([(5, 10)], [(5, 10)]) == 1.0
+    with pytest.raises(ValueError):
+        seed_permutation_p([], [(5, 10)])
 
 
 def test_holm_adjusts_step_down_and_keeps_the_order():

@@ -2,7 +2,9 @@
 Newcombe's hybrid score interval for the difference of two independent ones, and a two-level
 bootstrap (seeds, then episodes) for the mean rate of several training seeds and for the
 difference of two such means; each difference's two-sided p-value (the level at which its
-interval reaches zero) and Holm's step-down correction for a family of them.
+interval reaches zero), an exact permutation test over seeds for a difference of several seeds
+a side (the seed the unit, `seed_permutation_p`), and Holm's step-down correction for a family
+of them.
 
     python -m realikea.eval.stats 23/50 16/50     # each rate's interval, then their difference
 
@@ -15,6 +17,7 @@ procedure": the family-wise error stays at 5 % however many differences a report
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 from collections.abc import Sequence
@@ -135,6 +138,30 @@ def seed_difference_p(
     zero. Its resolution is 1 / `draws`."""
     diffs = _difference_draws(a, b, seed, draws)
     return float(min(1.0, 2 * min(np.mean(diffs <= 0), np.mean(diffs >= 0))))
+
+
+def seed_permutation_p(a: Sequence[tuple[int, int]], b: Sequence[tuple[int, int]]) -> float:
+    """Two-sided p-value of the difference of two groups' mean rates with the training seed as
+    the unit (k successes of n episodes a run, one run a seed): an exact permutation test over
+    the runs' rates. Under no difference every split of the pooled runs into groups of the two
+    sizes is equally likely; p is the share of the splits whose |mean a - mean b| reaches the
+    observed one. Its smallest value is 2 / C(len(a) + len(b), len(a)): 0.10 with three seeds a
+    side, 0.029 with four, so three seeds a side can never give p < 0.05."""
+    if not a or not b:
+        raise ValueError("both groups need at least one run")
+    for k, n in (*a, *b):
+        _check(k, n)
+    rates = np.array([k / n for k, n in (*a, *b)])
+    total = rates.sum()
+
+    def gap(chosen) -> float:
+        inside = rates[list(chosen)].sum()
+        return abs(inside / len(a) - (total - inside) / len(b))
+
+    observed = gap(range(len(a)))
+    splits = list(itertools.combinations(range(len(rates)), len(a)))
+    extreme = sum(gap(chosen) >= observed - 1e-12 for chosen in splits)
+    return extreme / len(splits)
 
 
 def _difference_draws(a, b, seed: int, draws: int) -> np.ndarray:

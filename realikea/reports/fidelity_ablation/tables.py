@@ -91,14 +91,18 @@ def difference_lines(
     cells: dict, variants, resistances, categories, modes, measure: str = "success"
 ) -> list[str]:
     """CoACD minus hull of `measure` (`paired_differences`), with its interval and whether it
-    excludes zero."""
+    is significant (uncorrected): Newcombe's interval with one seed a side, the permutation test
+    over seeds with several (`Difference.significant`)."""
     title = "CoACD − hull" if measure == "success" else f"{measure.capitalize()} rate: CoACD − hull"
     lines = [
         f"## {title}",
         "",
-        f"Difference of the mean {measure} rate [95 % interval] (Newcombe's with one seed a "
-        "side, else the two-level bootstrap); a difference is named only where the interval "
-        "excludes zero.",
+        f"Difference of the mean {measure} rate [95 % interval]. One seed a side: Newcombe's "
+        "interval, significant where it excludes zero. Several seeds a side: the two-level "
+        "bootstrap's interval (descriptive) and an exact permutation test over the seeds, the "
+        "seed the unit (`realikea.eval.stats.seed_permutation_p`, p in brackets; at least 0.10 "
+        "with three seeds a side), significant where p < 0.05 and the interval excludes zero. "
+        "Uncorrected; the family's correction is in its section 'Every difference at once (Holm)'.",
         "",
         "| CoACD | trained on | category | evaluated in | CoACD | hull | CoACD − hull [95 %] | |",
         "|---|---|---|---|---:|---:|---|---|",
@@ -107,7 +111,9 @@ def difference_lines(
         cells, variants, resistances, categories, modes, measure
     ):
         d, lo, hi = diff.interval()
-        verdict = "significant" if lo > 0 or hi < 0 else "not significant"
+        verdict = "significant" if diff.significant() else "not significant"
+        if diff.several:
+            verdict += f" (seeds: p = {diff.p():.2f})"
         mean_a, mean_b = (np.mean([k / n for k, n in r]) for r in (diff.a, diff.b))
         lines.append(
             f"| {coacd} | {res} | {category} | {m} | {mean_a:.2f} | {mean_b:.2f} | "
