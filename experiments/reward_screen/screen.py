@@ -1,4 +1,4 @@
-"""The reward screen: train each recipe on the cells where the appendix recipe died,
+"""The reward screen: train each recipe on four cells where the appendix recipe rarely learned,
 with both collision sources and several seeds, two runs at a time; keep each finished run in
 experiments/reward_screen/results/runs/NAME/ (its Hydra config, metrics, slim last checkpoint,
 wall time).
@@ -34,8 +34,9 @@ WORK = WORKSPACE / "outputs/reward_screen"
 ITERATIONS = 400
 SWITCH = 200  # fixed poses before this iteration, randomized from it
 LEARNED = 0.5  # training success, averaged over SUCCESS_WINDOW iterations, that counts as learned
-# the cells where the appendix recipe died (the fidelity grid, 900 iterations: 0-2 of 6 runs
-# learned in each): (category, training resistance)
+# four cells where the appendix recipe learned in few runs (the fidelity grid, 900 iterations,
+# full 20-iteration windows: two-point x smooth and knob x high 2 of 6, knob and finger pull x
+# smooth 3 of 6; finger pull x high, 2 of 6, was not screened): (category, training resistance)
 CELLS = {
     "two_point_smooth": ("two_point", "smooth"),
     "knob_smooth": ("knob", "smooth"),
