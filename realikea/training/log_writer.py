@@ -1,8 +1,16 @@
 """rsl-rl log writer: every scalar to metrics.csv, optionally mirrored to wandb or TensorBoard,
 and a progress bar of the launch's iterations with the training success and opening.
 
-The CSV is what the learning-curve plots read, so runs log the same way whatever the backend.
-wandb runs offline unless WANDB_MODE says otherwise, so no account is needed.
+The CSV is what the learning-curve plots read, so runs log the same way whatever the backend,
+under the tags rsl-rl and the env give (`/episode/success`, `Train/mean_reward`, ...). The
+mirrors get rsl-rl's `Group/name` form (`episode/success`: a leading slash would make an empty
+group). wandb runs offline unless WANDB_MODE says otherwise, so no account is needed.
+
+wandb has one step counter per run, and it only moves forward: every iteration's scalars go in
+one `log` call at step = iteration. rsl-rl's `/time` tags (a value at step = elapsed seconds)
+would move that counter to seconds and make wandb drop every later iteration, so wandb gets
+instead the elapsed seconds as `Perf/elapsed_seconds` at each iteration (plot any tag against it).
+TensorBoard keeps a step per tag and gets every tag as it comes.
 """
 
 from __future__ import annotations
@@ -21,6 +29,13 @@ BAR_TAGS = {
     "/episode/opening": "opening",
     "Train/mean_reward": "reward",
 }
+TIME_SUFFIX = "/time"  # rsl-rl's tags whose step is elapsed seconds, not the iteration
+ELAPSED_TAG = "Perf/elapsed_seconds"  # what wandb gets of them
+
+
+def mirrored_tag(tag: str) -> str:
+    """`tag` as the mirrors name it: rsl-rl's `Group/name` form, no leading slash."""
+    return tag.lstrip("/")
 
 
 class RealIkeaLogWriter(LogWriter):
@@ -43,7 +58,8 @@ class RealIkeaLogWriter(LogWriter):
         if self._file.tell() == 0:
             self._csv.writerow(["iteration", "tag", "value"])
         self._last_step = None
-        self._mirror = None
+        self._wandb_row: dict[str, float] = {}  # the iteration's scalars, sent when it ends
+        self._wandb_step = None
         self._bar = tqdm(total=iterations, unit="it", dynamic_ncols=True) if iterations else None
         self._bar_values: dict[str, float] = {}
         self._bar_iteration = None  # the iteration the bar's values are of
@@ -55,27 +71,42 @@ class RealIkeaLogWriter(LogWriter):
             self._run = wandb.init(
                 project=project_name, name=self.log_dir.name, dir=str(self.log_dir)
             )
-            self._mirror = lambda tag, value, step: self._run.log({tag: value}, step=step)
         elif backend == "tensorboard":
             from torch.utils.tensorboard import SummaryWriter
 
-            writer = SummaryWriter(log_dir=str(self.log_dir), flush_secs=10)
-            self._mirror = writer.add_scalar
-            self._tb = writer
+            self._tb = SummaryWriter(log_dir=str(self.log_dir), flush_secs=10)
 
     def add_scalar(self, tag: str, scalar_value: float, global_step: int) -> None:
         if self._last_step is not None and global_step != self._last_step:
             self._file.flush()
         self._last_step = global_step
         self._csv.writerow([global_step, tag, float(scalar_value)])
-        if not tag.endswith("/time"):  # rsl-rl's `/time` tags count seconds, not iterations
+        timed = tag.endswith(TIME_SUFFIX)
+        if not timed:
             if self._bar_iteration is not None and global_step != self._bar_iteration:
                 self._advance_bar()
             self._bar_iteration = global_step
         if tag in BAR_TAGS:
             self._bar_values[BAR_TAGS[tag]] = float(scalar_value)
-        if self._mirror is not None:
-            self._mirror(tag, float(scalar_value), global_step)
+        if hasattr(self, "_tb"):
+            self._tb.add_scalar(mirrored_tag(tag), float(scalar_value), global_step)
+        if hasattr(self, "_run"):
+            self._to_wandb(tag, float(scalar_value), global_step, timed)
+
+    def _to_wandb(self, tag: str, value: float, step: int, timed: bool) -> None:
+        """Collect the iteration's scalars; send them at step = iteration once the next begins."""
+        if timed:  # step is elapsed seconds: recorded as a value of the current iteration
+            self._wandb_row[ELAPSED_TAG] = float(step)
+            return
+        if self._wandb_step is not None and step != self._wandb_step:
+            self._flush_wandb()
+        self._wandb_step = step
+        self._wandb_row[mirrored_tag(tag)] = value
+
+    def _flush_wandb(self) -> None:
+        if self._wandb_row and self._wandb_step is not None:
+            self._run.log(self._wandb_row, step=self._wandb_step)
+        self._wandb_row = {}
 
     def store_config(self, env_cfg, train_cfg: dict) -> None:
         if hasattr(self, "_run"):
@@ -94,6 +125,7 @@ class RealIkeaLogWriter(LogWriter):
             self._bar.close()
         self._file.close()
         if hasattr(self, "_run"):
+            self._flush_wandb()
             self._run.finish()
         if hasattr(self, "_tb"):
             self._tb.close()
