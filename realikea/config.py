@@ -24,6 +24,42 @@ def config_number(node: DictConfig, key: str, path: str, minimum: float | None =
     return number
 
 
+# numeric settings and their lowest allowed value: counts (integers) and intervals; a key a config
+# does not have, or a null where null means "the default" (env.num_workers), is not checked
+INTEGER_MINIMA = {
+    "agent.max_iterations": 1,
+    "agent.num_steps_per_env": 1,
+    "agent.save_interval": 1,
+    "agent.algorithm.num_learning_epochs": 1,
+    "agent.algorithm.num_mini_batches": 1,
+    "env.num_envs": 1,
+    "env.num_workers": 0,
+    "dr.switch_iteration": 0,
+    "train.torch_threads": 1,
+    "train.eval_after.episodes": 1,
+    "episodes": 1,
+    "video_episodes": 0,
+}
+POSITIVE = ("env.step_timeout", "agent.algorithm.learning_rate")  # real numbers above zero
+
+
+def check_settings(cfg: DictConfig) -> None:
+    """Refuse, naming the key, a count below its minimum, a non-integer count or a non-positive
+    interval: before any work, so a bad setting never trains nothing and exits 0."""
+    for key, minimum in INTEGER_MINIMA.items():
+        value = OmegaConf.select(cfg, key, default=None)
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+            raise RealIkeaError(f"{key}={value!r}: use an integer >= {minimum}")
+    for key in POSITIVE:
+        value = OmegaConf.select(cfg, key, default=None)
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            raise RealIkeaError(f"{key}={value!r}: use a number > 0")
+
+
 def override_key(override: str) -> str:
     """The key a Hydra override sets: `+a.b=1` -> `a.b`, `~a` -> `a`, `group=x` -> `group`."""
     return override.lstrip("+~").split("=", 1)[0]

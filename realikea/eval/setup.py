@@ -9,7 +9,7 @@ from pathlib import Path
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.split import with_default_split
-from realikea.config import load_config, overrides_set
+from realikea.config import check_settings, load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import EvalResult, run_episodes
 from realikea.policies.registry import make_policy
@@ -51,6 +51,7 @@ def eval_setup(overrides: list[str]):
     run groups (`effective_config`) or a policy's own configuration, the classifier on
     (eval.yaml: contacts); the test split unless the overrides name one."""
     cfg = load_config(eval_overrides_with_split(overrides), "eval")
+    check_settings(cfg)  # episodes, envs, ... in range before a policy loads
     policy = make_policy(cfg)
     if hasattr(policy, "run_interactive") and not overrides_set(overrides, "asset.split"):
         cfg.asset.split = "train"  # teleop records demonstrations: training data, not a test

@@ -11,13 +11,20 @@ from omegaconf import DictConfig
 
 from realikea.eval.runs import check_eval_spec, evaluate_run
 from realikea.files import CONF_DIR
+from realikea.training.preflight import user_errors
 from realikea.training.train import train
 
 
 @hydra.main(config_path=str(CONF_DIR), config_name="config", version_base="1.3")
 def main(cfg: DictConfig) -> None:
     """Train in this run's Hydra directory (config, checkpoints, metrics.csv, logs), then
-    optionally evaluate the last checkpoint (`train.eval_after`: eval.json)."""
+    optionally evaluate the last checkpoint (`train.eval_after`: eval.json). A bad input stops it
+    with one line naming it (`user_errors`)."""
+    with user_errors():
+        _train_and_evaluate(cfg)
+
+
+def _train_and_evaluate(cfg: DictConfig) -> None:
     hydra_cfg = HydraConfig.get()
     overrides = list(hydra_cfg.overrides.task)
     if cfg.train.get("eval_after"):

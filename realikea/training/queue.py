@@ -4,9 +4,10 @@ A run trains in WORK/NAME (git-ignored). It is finished once WORK/NAME holds its
 (e.g. eval.json, or the last checkpoint), and
 then kept: `keep(run, seconds)` copies what the experiment commits. A stopped run (checkpoints,
 no `done` file) continues from its last checkpoint (`train.resume=`) for the iterations it
-still lacks, appending to its metrics.csv. A run whose training process is alive (WORK/NAME.pid)
-is left to it, so two drivers never train the same run, and one kept meanwhile by another driver
-is not kept again. Each launch's wall time is written to
+still lacks, appending to its metrics.csv; one without a checkpoint starts again in an emptied
+folder (train.py refuses a folder that holds another launch's files). A run whose training
+process is alive (WORK/NAME.pid) is left to it, so two drivers never train the same run, and one
+kept meanwhile by another driver is not kept again. Each launch's wall time is written to
 WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts. A run whose
 outcome is decided before its last iteration (`stop_early(run)`, checked at every poll) is
 interrupted (SIGINT: the trainer closes its env pool), marked finished (WORK/NAME/STOPPED_EARLY)
@@ -97,6 +98,8 @@ class RunQueue:
 
     def _launch(self, run: QueuedRun) -> subprocess.Popen:
         self.work.mkdir(parents=True, exist_ok=True)
+        if self.state(run) == "new":  # a launch that died before its first checkpoint:
+            shutil.rmtree(self.work / run.name, ignore_errors=True)  # nothing to resume
         log = (self.work / f"{run.name}.log").open("a")
         command = self.command(run)
         print(f"start {run.name}: {' '.join(command[1:])}", flush=True)

@@ -11,7 +11,8 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 from rsl_rl.runners import OnPolicyRunner
 
-from realikea.assets.library import training_configurations
+from realikea.assets.library import TrainingDraw, built_models, training_draw
+from realikea.config import check_settings
 from realikea.errors import RealIkeaError
 from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_saved, run_config
 from realikea.pool.env_pool import EnvPool
@@ -115,27 +116,33 @@ def console(cfg: DictConfig, run_dir: Path) -> Iterator[None]:
         yield
 
 
-def train(cfg: DictConfig, run_dir: Path) -> Path:
-    """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
-    run_dir = Path(run_dir)
-    torch.set_num_threads(int(cfg.train.torch_threads))
-    torch.manual_seed(int(cfg.env.seed))
-    np.random.seed(int(cfg.env.seed))
+def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
+    """Every check of a launch's inputs that needs no simulation (settings in range, the reward
+    variant, the console, a resumable checkpoint, a non-empty draw of configurations); returns
+    the draw (not yet built)."""
+    check_settings(cfg)
     reward_from_config(OmegaConf.to_container(cfg.task.reward))  # a bad variant fails here
     if cfg.train.console not in CONSOLES:
         raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
         check_resumable(Path(cfg.train.resume), cfg)
     n, seed = int(cfg.env.num_envs), int(cfg.env.seed)
-    draw = None
     if cfg.asset.get("follow_success") is not None:
-        draw = SuccessFollowingDraw.from_config(cfg, n, seed)
-        mjcfs = draw.paths()
-    else:
-        mjcfs = training_configurations(cfg, n, seed)
-    pool = EnvPool(cfg, mjcfs)
+        return SuccessFollowingDraw.from_config(cfg, n, seed)
+    return training_draw(cfg, n, seed)
+
+
+def train(cfg: DictConfig, run_dir: Path) -> Path:
+    """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
+    run_dir = Path(run_dir)
+    draw = check_inputs(cfg)
+    torch.set_num_threads(int(cfg.train.torch_threads))
+    torch.manual_seed(int(cfg.env.seed))
+    np.random.seed(int(cfg.env.seed))
+    follow = draw if isinstance(draw, SuccessFollowingDraw) else None
+    pool = EnvPool(cfg, follow.paths() if follow else built_models(cfg, draw.configurations))
     try:
-        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env), draw=draw)
+        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env), draw=follow)
         runner = Runner(
             env,
             runner_config(cfg),
