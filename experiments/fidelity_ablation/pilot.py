@@ -1,0 +1,99 @@
+"""The grid's pilot: does today's default recipe learn under today's kitchen placements, on
+seeds the project never used, before the fidelity grid (v2) freezes it?
+
+    python experiments/fidelity_ablation/pilot.py            # every run not yet kept, two at a time
+    python experiments/fidelity_ablation/pilot.py --dry-run  # the commands and their state
+    python experiments/fidelity_ablation/pilot.py --placements none  # arm 0.80 m below (screened)
+
+Knob x high and finger pull x smooth, drawers, kitchen, train parts, CoACD and hull, seeds 12
+and 13, on the grid's schedule (600 iterations, fixed poses to 300, then randomized), one env
+worker a run. A run stops once a full LEARNED_WINDOW-iteration window on randomized poses
+averages at least LEARNED training success (it has learned and holds it off the fixed poses);
+otherwise it runs its 600 iterations. Each finished run is kept in
+experiments/fidelity_ablation/results/grid_v2/pilot/NAME (config, metrics, slim last checkpoint,
+wall time); a stopped run resumes from its last checkpoint (realikea/training/queue.py).
+The table: `python experiments/fidelity_ablation/pilot_report.py`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import sys
+
+import numpy as np
+
+from realikea.files import WORKSPACE
+from realikea.training.metrics import read_metrics
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
+
+KEPT = WORKSPACE / "experiments/fidelity_ablation/results/grid_v2/pilot"
+WORK = WORKSPACE / "outputs/grid_v2_pilot"
+ITERATIONS = 600
+SWITCH = 300  # fixed poses before this iteration, randomized from it
+LEARNED, LEARNED_WINDOW = 0.5, 20  # a full window of training success at or above LEARNED
+CELLS = {"knob_high": ("knob", "high"), "finger_pull_smooth": ("finger_pull", "smooth")}
+COLLISIONS = ("coacd", "hull")
+SEEDS = (12, 13)
+# placement name -> the overrides that make it ("today": the kitchen's defaults)
+PLACEMENTS = {"today": [], "none": ["scene.robot.placements=[]"]}
+COMMON = [
+    "asset.kind=drawer", "scene=kitchen", "logger=none", "env.num_workers=1",
+    f"agent.max_iterations={ITERATIONS}", "agent.save_interval=10", "dr=two_phase",
+    f"dr.switch_iteration={SWITCH}",
+]  # fmt: skip
+
+
+def pilot_run(collision: str, cell: str, seed: int, placement: str) -> QueuedRun:
+    category, resistance = CELLS[cell]
+    overrides = [f"collision={collision}", f"asset={category}", f"resistance={resistance}"]
+    overrides += [f"env.seed={seed}", *COMMON, *PLACEMENTS[placement]]
+    suffix = "" if placement == "today" else f"_{placement}"
+    return QueuedRun(f"{collision}_{cell}_s{seed}{suffix}", tuple(overrides), ITERATIONS)
+
+
+def learned_on_randomized(run: QueuedRun) -> bool:
+    """Whether a full LEARNED_WINDOW-iteration window, all on randomized poses, averages at
+    least LEARNED training success."""
+    metrics = WORK / run.name / "metrics.csv"
+    if not metrics.is_file():
+        return False
+    its, values = read_metrics(metrics.parent).get("/episode/success", ([], []))
+    by_iteration = dict(zip(its, values, strict=True))  # a resumed launch's rows replace earlier
+    randomized = [by_iteration[it] for it in sorted(by_iteration) if it >= SWITCH]
+    if len(randomized) < LEARNED_WINDOW:
+        return False
+    means = np.convolve(randomized, np.ones(LEARNED_WINDOW) / LEARNED_WINDOW, mode="valid")
+    return bool(np.any(means >= LEARNED))
+
+
+QUEUE = RunQueue(
+    WORK,
+    lambda run: f"model_{run.iterations - 1}.pt",
+    lambda run, seconds: keep_run(WORK / run.name, KEPT / run.name, seconds),
+    lambda run: (KEPT / run.name / "wall.json").is_file(),  # keep_run writes the folder whole
+    stop_early=learned_on_randomized,
+)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--cells", nargs="+", choices=list(CELLS), default=list(CELLS))
+    parser.add_argument("--collisions", nargs="+", choices=COLLISIONS, default=list(COLLISIONS))
+    parser.add_argument("--seeds", nargs="+", type=int, default=list(SEEDS))
+    parser.add_argument("--placements", choices=list(PLACEMENTS), default="today")
+    parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
+    parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    args = parser.parse_args()
+    runs = [
+        pilot_run(collision, cell, seed, args.placements)
+        for seed, cell, collision in itertools.product(args.seeds, args.cells, args.collisions)
+    ]
+    if args.dry_run:
+        QUEUE.show(runs)
+        return 0
+    return QUEUE.run_all(runs, args.jobs)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
