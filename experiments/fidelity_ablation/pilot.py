@@ -63,7 +63,7 @@ def learned_on_randomized(run: QueuedRun) -> bool:
     randomized = [by_iteration[it] for it in sorted(by_iteration) if it >= SWITCH]
     if len(randomized) < LEARNED_WINDOW:
         return False
-    means = np.convolve(randomized, np.ones(LEARNED_WINDOW) / LEARNED_WINDOW, mode="valid")
+    means = np.convolve(randomized, np.ones(LEARNED_WINDOW), mode="valid") / LEARNED_WINDOW
     return bool(np.any(means >= LEARNED))
 
 
