@@ -3,7 +3,8 @@
 Every cell runs `episodes` episodes with the contact-force strategy classifier on, on the
 held-out parts (`asset.split=test`) unless the command line sets asset.split. One env pool
 per (category, resistance) serves all policies, so they meet the same configurations and the
-same randomized poses (env i, seed env.seed + i).
+same poses (env i, seed env.seed + i; randomized with dr=randomized, nominal under the default
+two_phase).
 """
 
 from __future__ import annotations
