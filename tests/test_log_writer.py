@@ -4,14 +4,13 @@ of the iterations."""
 from __future__ import annotations
 
 import csv
-import json
-import struct
-from pathlib import Path
 
 import pytest
 import torch
 
+from realikea.errors import RealIkeaError
 from realikea.training.log_writer import RealIkeaLogWriter
+from realikea.training.wandb_file import run_file, wandb_history, wandb_records
 
 
 def _rows(path):
@@ -55,54 +54,6 @@ def test_the_progress_bar_counts_iterations_not_the_seconds_of_time_tags(tmp_pat
     assert "3/3" in bar and "success=0.50" in bar and "reward=1.00" in bar
 
 
-# wandb's run file (`run-*.wandb`): a log of 32 KiB blocks after a 7-byte header (":W&B", magic,
-# version); each block holds chunks (crc32, length, type) of protobuf `Record`s, a record split
-# over blocks as FIRST, MIDDLE..., LAST; a block's tail shorter than a chunk header is padding
-WANDB_HEADER = struct.Struct("<4sHB")
-WANDB_CHUNK = struct.Struct("<IHB")
-WANDB_BLOCK = 32 * 1024
-FULL, FIRST, MIDDLE, LAST = 1, 2, 3, 4
-
-
-def wandb_records(path: Path) -> list:
-    """Every protobuf `Record` in a `.wandb` run file, in order."""
-    from wandb.proto import wandb_internal_pb2
-
-    data = path.read_bytes()
-    ident, magic, _ = WANDB_HEADER.unpack_from(data)
-    assert (ident, magic) == (b":W&B", 0xBEE1), f"{path} is not a wandb run file"
-    records, pieces, pos = [], [], WANDB_HEADER.size
-    while pos + WANDB_CHUNK.size <= len(data):
-        if WANDB_BLOCK - pos % WANDB_BLOCK < WANDB_CHUNK.size:
-            pos += WANDB_BLOCK - pos % WANDB_BLOCK
-            continue
-        _, length, kind = WANDB_CHUNK.unpack_from(data, pos)
-        pos += WANDB_CHUNK.size
-        if kind == 0:  # zeroes: the rest of the file is not written yet
-            break
-        pieces.append(data[pos : pos + length])
-        pos += length
-        if kind in (FULL, LAST):
-            record = wandb_internal_pb2.Record()
-            record.ParseFromString(b"".join(pieces))
-            records.append(record)
-            pieces = []
-    return records
-
-
-def wandb_history(run_file: Path) -> dict[str, dict[int, float]]:
-    """tag -> {step: value} of the run's history records."""
-    history: dict[str, dict[int, float]] = {}
-    for record in wandb_records(run_file):
-        if record.WhichOneof("record_type") != "history":
-            continue
-        step = record.history.step.num
-        for item in record.history.item:
-            key = item.key or "/".join(item.nested_key)
-            history.setdefault(key, {})[step] = json.loads(item.value_json)
-    return history
-
-
 def test_wandb_keeps_every_iteration_of_a_run_whose_iterations_take_seconds(tmp_path, monkeypatch):
     """rsl-rl's own logger, iterations of 2 s: wandb holds the reward and the success of every
     iteration at steps 0 ... N-1 (its `/time` tags, stepped in seconds, used to move wandb's
@@ -128,11 +79,17 @@ def test_wandb_keeps_every_iteration_of_a_run_whose_iterations_take_seconds(tmp_
         logger.log(it, 0, iterations, 1.5, 0.5, {"surrogate": 0.0}, 1e-3, torch.ones(4), None)
     logger.stop_logging_writer()
 
-    (run_file,) = tmp_path.glob("wandb/offline-run-*/run-*.wandb")
-    history = wandb_history(run_file)
+    history = wandb_history(run_file(tmp_path))
     steps = list(range(iterations))
     assert history["Train/mean_reward"] == {it: it / 2 for it in steps}  # mean of 0..it
     assert history["episode/success"] == pytest.approx({it: 0.1 * it for it in steps})
     assert history["Perf/elapsed_seconds"] == {it: 2.0 * (it + 1) for it in steps}
     assert not [tag for tag in history if tag.startswith("/")]  # rsl-rl's Group/name form
     assert _rows(tmp_path)[0][1] == "/episode/success"  # metrics.csv keeps its names
+
+
+def test_a_file_that_is_not_a_wandb_run_is_refused_by_name(tmp_path):
+    path = tmp_path / "run-x.wandb"
+    path.write_bytes(b"not a wandb log")
+    with pytest.raises(RealIkeaError, match="run-x.wandb is not a wandb run file"):
+        wandb_records(path)
