@@ -3,9 +3,10 @@
 Source: `pybullet_data/franka_panda/meshes/` of the installed `pybullet` package (a dependency),
 the meshes its `panda.urdf` draws: `visual/link1..6.obj`, `visual/hand.obj`, `visual/finger.obj`,
 and `collision/link0.obj`, `collision/link7.obj` (the package ships no visual mesh for those two;
-its URDF draws the collision meshes). Licence: the Apache License 2.0, in
-`pybullet_data/franka_panda/LICENSE.txt` beside the meshes; the meshes are Franka Emika GmbH's,
-from its `franka_ros` package (`franka_description`, Apache-2.0, copyright Franka Emika GmbH).
+its URDF draws the collision meshes). Licence: the Apache License 2.0, the file
+`pybullet_data/franka_panda/LICENSE.txt` beside the meshes (it names no copyright holder). The
+meshes are Franka's `franka_description` meshes from `franka_ros`, whose NOTICE reads
+"Copyright 2023 Franka Robotics GmbH" (formerly Franka Emika GmbH), Apache-2.0.
 Nothing of them is committed to this repository.
 
 Each mesh is in the URDF's link frame, Craig's modified DH frame i, the frame robot.py gives

@@ -375,8 +375,9 @@ def robot_xml(
     group = COLLISION_GROUP if visuals else SOLID_GROUP
     assets = ""
     if visuals:
-        # the Panda's meshes from the installed pybullet_data (Apache-2.0, Franka Emika GmbH:
-        # pybullet_data/franka_panda/LICENSE.txt), split by colour into the cache; absolute
+        # the Panda's meshes from the installed pybullet_data (Apache License 2.0, the file
+        # pybullet_data/franka_panda/LICENSE.txt; copyright Franka Robotics GmbH, formerly
+        # Franka Emika GmbH, per franka_ros's NOTICE), split by colour into the cache; absolute
         # paths, so no meshdir touches the meshes of a configuration attached to this model
         used = {"link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7"}
         used = (used if arm else set()) | {HAND_BODY} | ({"finger"} if fingers else set())
