@@ -4,6 +4,7 @@ keeping a finished run, and a failed one kept nowhere."""
 from __future__ import annotations
 
 import json
+import shutil
 import sys
 
 from realikea.training import queue
@@ -103,3 +104,39 @@ def test_a_run_kept_by_another_driver_while_this_one_waited_is_not_kept_again(tm
     (tmp_path / "work" / RUN.name / "model_399.pt").write_bytes(b"")  # finished
     assert q.run_all([RUN], jobs=1) == 0 and kept == []
     assert f"skip {RUN.name}: kept meanwhile" in capsys.readouterr().out
+
+
+def test_a_parked_run_resumes_on_another_machine_from_its_last_checkpoint(tmp_path):
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    run_dir = tmp_path / "work" / RUN.name
+    (run_dir / ".hydra").mkdir(parents=True)
+    (run_dir / ".hydra" / "overrides.yaml").write_text("- asset=knob\n")
+    (run_dir / "metrics.csv").write_text("iteration,tag,value\n0,Train/mean_reward,1.0\n")
+    for it in (0, 150):
+        (run_dir / f"model_{it}.pt").write_bytes(b"weights and optimiser %d" % it)
+    (tmp_path / "work" / f"{RUN.name}.wall.json").write_text("[600.0]\n")
+    (parked,) = q.park([RUN])
+    assert sorted(p.name for p in parked.iterdir()) == [
+        ".hydra", "metrics.csv", "model_150.pt", "wall.json"
+    ]  # fmt: skip
+    shutil.rmtree(tmp_path / "work")  # a new machine: the work folder is gone
+    assert q.state(RUN) == "parked"
+    q._unpark(RUN)
+    assert q.state(RUN) == "stopped" and q.wall_times(RUN) == [600.0]
+    assert f"train.resume={run_dir / 'model_150.pt'}" in q.command(RUN)
+    assert (run_dir / "model_150.pt").read_bytes() == b"weights and optimiser 150"
+    assert q.park([QueuedRun("never_started", (), 400)]) == []  # nothing to park
+
+
+def test_a_launch_that_died_before_its_first_checkpoint_starts_in_an_emptied_folder(
+    tmp_path, monkeypatch
+):
+    """train.py refuses a folder holding another launch's metrics: the queue empties it."""
+    q = _queue(tmp_path, [])
+    run_dir = tmp_path / "work" / RUN.name
+    run_dir.mkdir(parents=True)
+    (run_dir / "metrics.csv").write_text("iteration,tag,value\n")
+    monkeypatch.setattr(RunQueue, "command", lambda self, run: [sys.executable, "-c", "pass"])
+    q._launch(RUN).wait()
+    assert not run_dir.exists()

@@ -11,7 +11,8 @@ kept meanwhile by another driver is not kept again. Each launch's wall time is w
 WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts. A run whose
 outcome is decided before its last iteration (`stop_early(run)`, checked at every poll) is
 interrupted (SIGINT: the trainer closes its env pool), marked finished (WORK/NAME/STOPPED_EARLY)
-and kept with its last checkpoint.
+and kept with its last checkpoint. WORK is gone with the machine: `park` copies each stopped
+run's resumable state to a folder git holds, and a later launch of it starts from there.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ class RunQueue:
     keep: Callable[[QueuedRun, list[float]], Path]
     kept: Callable[[QueuedRun], bool]
     stop_early: Callable[[QueuedRun], bool] = lambda run: False
+    parked: Path | None = None  # where `park` leaves stopped runs for a later machine (in git)
 
     def command(self, run: QueuedRun) -> list[str]:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
@@ -78,14 +80,18 @@ class RunQueue:
         return True
 
     def state(self, run: QueuedRun) -> str:
-        """kept, running, finished (not yet kept), stopped (has checkpoints) or new."""
+        """kept, running, finished (not yet kept), stopped (has checkpoints), parked (stopped
+        on another machine: `park`) or new."""
         if self.kept(run):
             return "kept"
         if self.running(run):
             return "running"
         if self.finished(run):
             return "finished"
-        return "stopped" if any((self.work / run.name).glob("model_*.pt")) else "new"
+        if any((self.work / run.name).glob("model_*.pt")):
+            return "stopped"
+        parked = self.parked is not None and (self.parked / run.name / "wall.json").is_file()
+        return "parked" if parked else "new"
 
     def finished(self, run: QueuedRun) -> bool:
         run_dir = self.work / run.name
@@ -96,10 +102,43 @@ class RunQueue:
         path = self.work / f"{run.name}.wall.json"
         return json.loads(path.read_text()) if path.is_file() else []
 
+    def park(self, runs: list[QueuedRun]) -> list[Path]:
+        """Copy each stopped run's resumable state to `parked`/NAME: its Hydra config, metrics,
+        last checkpoint whole (optimiser included) and launches' wall times, so a session on
+        another machine resumes it (`_launch` puts it back); returns the folders written."""
+        if self.parked is None:
+            raise ValueError("this queue has no folder to park runs in")
+        done = []
+        for run in runs:
+            if self.state(run) != "stopped":
+                continue
+            source, target = self.work / run.name, self.parked / run.name
+            staging = target.with_name(target.name + ".partial")
+            shutil.rmtree(staging, ignore_errors=True)
+            shutil.copytree(source / ".hydra", staging / ".hydra")
+            shutil.copy2(source / "metrics.csv", staging / "metrics.csv")
+            last = checkpoints(source)[-1][1]
+            shutil.copy2(last, staging / last.name)
+            atomic_write_text(staging / "wall.json", json.dumps(self.wall_times(run)) + "\n")
+            shutil.rmtree(target, ignore_errors=True)
+            staging.rename(target)
+            done.append(target)
+        return done
+
+    def _unpark(self, run: QueuedRun) -> None:
+        """Put a parked run back in `work` (its wall times too) to resume it there."""
+        source, target = self.parked / run.name, self.work / run.name
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.copytree(source, target, ignore=shutil.ignore_patterns("wall.json"))
+        shutil.copy2(source / "wall.json", self.work / f"{run.name}.wall.json")
+
     def _launch(self, run: QueuedRun) -> subprocess.Popen:
         self.work.mkdir(parents=True, exist_ok=True)
-        if self.state(run) == "new":  # a launch that died before its first checkpoint:
-            shutil.rmtree(self.work / run.name, ignore_errors=True)  # nothing to resume
+        state = self.state(run)
+        if state == "new" and (self.work / run.name / "metrics.csv").is_file():
+            shutil.rmtree(self.work / run.name)  # a launch that died before its first checkpoint
+        if state == "parked":
+            self._unpark(run)
         log = (self.work / f"{run.name}.log").open("a")
         command = self.command(run)
         print(f"start {run.name}: {' '.join(command[1:])}", flush=True)
