@@ -5,6 +5,7 @@ checkpoint on the test parts (CoACD geometry) in smooth, normal and high.
     python experiments/fidelity_ablation/grid_v2.py --freeze   # once, before any run: recipe.yaml
     python experiments/fidelity_ablation/grid_v2.py --dry-run  # the runs, their state, commands
     python experiments/fidelity_ablation/grid_v2.py            # every run not kept, two at a time
+    python experiments/fidelity_ablation/grid_v2.py --park     # stopped runs' state into git
 
 The recipe is frozen in results/grid_v2/recipe.yaml (`--freeze` writes today's resolved task,
 agent, scene, sim and pose ranges there, and refuses to overwrite it). Every run composes it as a
@@ -31,6 +32,7 @@ RESULTS = WORKSPACE / "experiments/fidelity_ablation/results"
 KEPT = RESULTS / "grid_v2"
 RECIPE = KEPT / "recipe.yaml"
 WORK = WORKSPACE / "outputs/grid_v2"
+PARKED = RESULTS / "grid_v2_parked"  # stopped runs' resumable state, for the next machine
 RECIPE_OVERRIDES = (
     f"hydra.searchpath=[file://{RESULTS.relative_to(WORKSPACE)}]",
     "+grid_v2=recipe",
@@ -108,6 +110,7 @@ def main() -> int:
     parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
     parser.add_argument("--dry-run", action="store_true", help="print the commands only")
     parser.add_argument("--freeze", action="store_true", help="write recipe.yaml from the defaults")
+    parser.add_argument("--park", action="store_true", help="keep stopped runs' state in git")
     args = parser.parse_args()
     if args.freeze:
         freeze()
@@ -116,8 +119,13 @@ def main() -> int:
         parser.error(f"no frozen recipe at {RECIPE}: run --freeze first")
     runs = planned(args.collisions, args.resistances, args.categories)
     queue = grid_queue(WORK, KEPT)
+    queue.parked = PARKED
     if args.dry_run:
         queue.show(runs)
+        return 0
+    if args.park:
+        for folder in queue.park(runs):
+            print(f"parked {folder}")
         return 0
     return queue.run_all(runs, args.jobs)
 

@@ -4,6 +4,7 @@ seeds the project never used, before the fidelity grid (v2) freezes it?
     python experiments/fidelity_ablation/pilot.py            # every run not yet kept, two at a time
     python experiments/fidelity_ablation/pilot.py --dry-run  # the commands and their state
     python experiments/fidelity_ablation/pilot.py --placements none  # arm 0.80 m below (screened)
+    python experiments/fidelity_ablation/pilot.py --park     # stopped runs' state into git
 
 Knob x high and finger pull x smooth, drawers, kitchen, train parts, CoACD and hull, seeds 12
 and 13, on the grid's schedule (600 iterations, fixed poses to 300, then randomized), one env
@@ -11,7 +12,8 @@ worker a run. A run stops once a full LEARNED_WINDOW-iteration window on randomi
 averages at least LEARNED training success (it has learned and holds it off the fixed poses);
 otherwise it runs its 600 iterations. Each finished run is kept in
 experiments/fidelity_ablation/results/grid_v2/pilot/NAME (config, metrics, slim last checkpoint,
-wall time); a stopped run resumes from its last checkpoint (realikea/training/queue.py).
+wall time); a stopped run resumes from its last checkpoint (realikea/training/queue.py), on
+another machine from results/grid_v2/pilot_parked/NAME (`--park` before the session ends).
 The table: `python experiments/fidelity_ablation/pilot_report.py`.
 """
 
@@ -28,6 +30,7 @@ from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 KEPT = WORKSPACE / "experiments/fidelity_ablation/results/grid_v2/pilot"
+PARKED = WORKSPACE / "experiments/fidelity_ablation/results/grid_v2/pilot_parked"
 WORK = WORKSPACE / "outputs/grid_v2_pilot"
 ITERATIONS = 600
 SWITCH = 300  # fixed poses before this iteration, randomized from it
@@ -73,6 +76,7 @@ QUEUE = RunQueue(
     lambda run, seconds: keep_run(WORK / run.name, KEPT / run.name, seconds),
     lambda run: (KEPT / run.name / "wall.json").is_file(),  # keep_run writes the folder whole
     stop_early=learned_on_randomized,
+    parked=PARKED,
 )
 
 
@@ -84,6 +88,7 @@ def main() -> int:
     parser.add_argument("--placements", choices=list(PLACEMENTS), default="today")
     parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
     parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    parser.add_argument("--park", action="store_true", help="keep stopped runs' state in git")
     args = parser.parse_args()
     runs = [
         pilot_run(collision, cell, seed, args.placements)
@@ -91,6 +96,10 @@ def main() -> int:
     ]
     if args.dry_run:
         QUEUE.show(runs)
+        return 0
+    if args.park:
+        for folder in QUEUE.park(runs):
+            print(f"parked {folder}")
         return 0
     return QUEUE.run_all(runs, args.jobs)
 
