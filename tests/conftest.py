@@ -1,15 +1,33 @@
-"""Shared fixtures: the catalog, default workflow settings and a small built library."""
+"""Shared fixtures: the catalog, default workflow settings, a small built library, and the
+experiments' scripts as modules."""
 
 from __future__ import annotations
+
+import importlib.util
 
 import pytest
 
 from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.config import load_config
-from realikea.files import repo_path
+from realikea.files import WORKSPACE, repo_path
 
 SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
+
+
+@pytest.fixture(scope="session")
+def load_script():
+    """`load_script("experiments/x/y.py")`: an experiment's script imported as a module (the
+    experiments folder is no package)."""
+
+    def load(relative: str):
+        path = WORKSPACE / relative
+        spec = importlib.util.spec_from_file_location(path.stem, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load
 
 
 @pytest.fixture(scope="session")

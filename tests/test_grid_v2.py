@@ -3,28 +3,20 @@ run composing to the frozen recipe, so a later change of the defaults cannot cha
 
 from __future__ import annotations
 
-import importlib.util
 from collections import Counter
 
 import pytest
 from omegaconf import OmegaConf
 
 from realikea.config import load_config
-from realikea.files import WORKSPACE
 
 
-def _grid_v2():
-    path = WORKSPACE / "experiments/fidelity_ablation/grid_v2.py"
-    spec = importlib.util.spec_from_file_location("grid_v2", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+@pytest.fixture(scope="module")
+def grid_v2(load_script):
+    return load_script("experiments/fidelity_ablation/grid_v2.py")
 
 
-grid_v2 = _grid_v2()
-
-
-def test_the_grid_plans_66_runs_on_fresh_seeds_five_a_side_in_the_compared_cells():
+def test_the_grid_plans_66_runs_on_fresh_seeds_five_a_side_in_the_compared_cells(grid_v2):
     runs = grid_v2.planned()
     assert len(runs) == 66 and len({r.name for r in runs}) == 66
     seeds = Counter((r.category, r.resistance, r.collision) for r in runs)
@@ -34,7 +26,9 @@ def test_the_grid_plans_66_runs_on_fresh_seeds_five_a_side_in_the_compared_cells
     assert runs[0].seed == 100 and runs[-1].seed == 104  # every cell's first seed first
 
 
-def test_a_run_trains_on_drawers_of_train_parts_in_the_kitchen_and_is_evaluated_on_test_parts():
+def test_a_run_trains_on_drawers_of_train_parts_in_the_kitchen_and_is_evaluated_on_test_parts(
+    grid_v2,
+):
     if not grid_v2.RECIPE.is_file():
         pytest.skip("the recipe is frozen after the pilot (grid_v2.py --freeze)")
     cfg = load_config(list(grid_v2.planned()[0].overrides))
@@ -54,7 +48,7 @@ def test_a_run_trains_on_drawers_of_train_parts_in_the_kitchen_and_is_evaluated_
     )
 
 
-def test_every_run_composes_to_the_frozen_recipe():
+def test_every_run_composes_to_the_frozen_recipe(grid_v2):
     if not grid_v2.RECIPE.is_file():
         pytest.skip("the recipe is frozen after the pilot (grid_v2.py --freeze)")
     frozen = OmegaConf.to_container(OmegaConf.load(grid_v2.RECIPE))
@@ -62,7 +56,7 @@ def test_every_run_composes_to_the_frozen_recipe():
         assert grid_v2.recipe_of(load_config(list(run.overrides))) == frozen, run.name
 
 
-def test_freezing_twice_is_refused(tmp_path, monkeypatch):
+def test_freezing_twice_is_refused(grid_v2, tmp_path, monkeypatch):
     monkeypatch.setattr(grid_v2, "RECIPE", tmp_path / "recipe.yaml")
     grid_v2.freeze()
     assert OmegaConf.load(tmp_path / "recipe.yaml").agent.max_iterations == 600

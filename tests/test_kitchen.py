@@ -3,8 +3,6 @@ robot placed by its lift, and scenes named by the config."""
 
 from __future__ import annotations
 
-import importlib.util
-
 import mujoco
 import numpy as np
 import pytest
@@ -14,7 +12,6 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import run_scene
-from realikea.files import WORKSPACE
 from realikea.policies.registry import make_policy
 from realikea.policies.rollout import episode, final_info
 from realikea.sim.scene import (
@@ -245,17 +242,13 @@ def test_hook_oracle_hooks_the_finger_pull_flap_from_below_with_the_lift_raised(
     assert low.opening < OPENED["hinge"] / 2, low.opening
 
 
-def test_a_knob_wedge_from_above_meets_the_worktop_and_from_below_it_levers(tmp_path):
+def test_a_knob_wedge_from_above_meets_the_worktop_and_from_below_it_levers(tmp_path, load_script):
     """With the arm 0.80 m below a drawer's knob (`placements=[]`) the wedge comes from above,
     and in draw 2 of this top drawer the hand's housing meets the worktop and the drawer stays
     shut (experiments/kitchen/hand_contacts.py names it); in draw 0 the wedge opens it touching
     nothing off the part. With the kitchen's placement (the handle 0.15 m above the base) the
     wedge comes from below and draw 2 opens by a lever."""
-    spec = importlib.util.spec_from_file_location(
-        "hand_contacts", WORKSPACE / "experiments/kitchen/hand_contacts.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_script("experiments/kitchen/hand_contacts.py")
     high = ("scene.robot.placements=[]",)
     for extra, seed, expected in ((high, 2, "kitchen_worktop"), (high, 0, None), ((), 2, None)):
         cfg = _task(tmp_path, "knob_square_35", "drawer_w80_h20", *ORACLE, *extra).cfg

@@ -55,19 +55,33 @@ def pilot_run(collision: str, cell: str, seed: int, placement: str) -> QueuedRun
     return QueuedRun(f"{collision}_{cell}_s{seed}{suffix}", tuple(overrides), ITERATIONS)
 
 
+def series(metrics, tag: str) -> tuple[np.ndarray, np.ndarray]:
+    """(iterations, values) of a tag, each iteration as its last launch logged it."""
+    its, values = metrics.get(tag, ([], []))
+    by_iteration = dict(zip(its, values, strict=True))  # a resumed launch's rows replace earlier
+    order = sorted(by_iteration)
+    return np.array(order, dtype=int), np.array([by_iteration[i] for i in order])
+
+
+def first_full_window(its: np.ndarray, values: np.ndarray, start: int = 0) -> int | None:
+    """The first iteration >= start whose full LEARNED_WINDOW-iteration window reaches LEARNED."""
+    chosen = its >= start
+    its, values = its[chosen], values[chosen]
+    if len(values) < LEARNED_WINDOW:
+        return None
+    means = np.convolve(values, np.ones(LEARNED_WINDOW), mode="valid") / LEARNED_WINDOW
+    hits = np.flatnonzero(means >= LEARNED)
+    return int(its[hits[0]]) if len(hits) else None
+
+
 def learned_on_randomized(run: QueuedRun) -> bool:
     """Whether a full LEARNED_WINDOW-iteration window, all on randomized poses, averages at
     least LEARNED training success."""
     metrics = WORK / run.name / "metrics.csv"
     if not metrics.is_file():
         return False
-    its, values = read_metrics(metrics.parent).get("/episode/success", ([], []))
-    by_iteration = dict(zip(its, values, strict=True))  # a resumed launch's rows replace earlier
-    randomized = [by_iteration[it] for it in sorted(by_iteration) if it >= SWITCH]
-    if len(randomized) < LEARNED_WINDOW:
-        return False
-    means = np.convolve(randomized, np.ones(LEARNED_WINDOW), mode="valid") / LEARNED_WINDOW
-    return bool(np.any(means >= LEARNED))
+    its, values = series(read_metrics(metrics.parent), "/episode/success")
+    return first_full_window(its, values, SWITCH) is not None
 
 
 QUEUE = RunQueue(

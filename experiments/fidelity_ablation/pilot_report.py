@@ -11,33 +11,22 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-from pilot import KEPT, LEARNED, LEARNED_WINDOW, PARKED, SWITCH, WORK
+from pilot import (
+    KEPT,
+    LEARNED,
+    LEARNED_WINDOW,
+    PARKED,
+    SWITCH,
+    WORK,
+    first_full_window,
+    series,
+)
 
 from realikea.files import atomic_write_text
 from realikea.training.metrics import read_metrics
 
 OUT = KEPT.parent / "pilot.md"
 LAST = 30  # iterations the end-of-run columns average
-
-
-def series(metrics, tag: str) -> tuple[np.ndarray, np.ndarray]:
-    """(iterations, values) of a tag, each iteration as its last launch logged it."""
-    its, values = metrics.get(tag, ([], []))
-    by_iteration = dict(zip(its, values, strict=True))
-    order = sorted(by_iteration)
-    return np.array(order, dtype=int), np.array([by_iteration[i] for i in order])
-
-
-def first_full_window(its: np.ndarray, values: np.ndarray, start: int = 0) -> int | None:
-    """The first iteration >= start whose full LEARNED_WINDOW-iteration window reaches LEARNED."""
-    chosen = its >= start
-    its, values = its[chosen], values[chosen]
-    if len(values) < LEARNED_WINDOW:
-        return None
-    means = np.convolve(values, np.ones(LEARNED_WINDOW), mode="valid") / LEARNED_WINDOW
-    hits = np.flatnonzero(means >= LEARNED)
-    return int(its[hits[0]]) if len(hits) else None
 
 
 def row(run_dir: Path, where: str) -> str:
