@@ -32,6 +32,8 @@ LAST = 30  # iterations the end-of-run columns average
 def row(run_dir: Path, where: str) -> str:
     metrics = read_metrics(run_dir)
     its, success = series(metrics, "/episode/success")
+    if not len(its):  # no episode has ended yet
+        return f"| {run_dir.name} | {where} | - | never | never | - | - | - |"
     learned = first_full_window(its, success)
     randomized = first_full_window(its, success, SWITCH)
     stages = {
