@@ -58,22 +58,18 @@ def holm_lines(family: Sequence[Difference], title: str, heading: str = "##") ->
     uncorrected = [i for i in np.argsort(ps, kind="stable") if family[i].significant()]
     survive = sum(adjusted[i] < 0.05 for i in uncorrected)
     if any(d.several for d in family):
-        criterion, p_values = (
-            "Significant at 5 %",
-            (
-                "p-values: with one seed a side Newcombe's, agreeing with its interval; with several "
-                "seeds a side an exact permutation test over the seeds, "
-                "`realikea.eval.stats.seed_permutation_p`, whose smallest p is 0.10 with three seeds "
-                "a side; their bootstrap interval is descriptive"
-            ),
+        criterion = "Significant at 5 %"
+        p_values = (
+            "p-values: with one seed a side Newcombe's, agreeing with its interval; with "
+            "several seeds a side an exact permutation test over the seeds, "
+            "`realikea.eval.stats.seed_permutation_p`, whose smallest p is 0.10 with three "
+            "seeds a side; their bootstrap interval is descriptive"
         )
     else:
-        criterion, p_values = (
-            "Excluding zero at 95 %",
-            (
-                "p-values agree with the intervals: Newcombe's with one seed a side, the seed "
-                "bootstrap's otherwise, resolution 1e-4"
-            ),
+        criterion = "Excluding zero at 95 %"
+        p_values = (
+            "p-values agree with the intervals: Newcombe's with one seed a side, the seed "
+            "bootstrap's otherwise, resolution 1e-4"
         )
     how = (
         f"{len(family)} differences are tested here (the family). {criterion}: "
