@@ -120,14 +120,7 @@ def main() -> int:
     runs = planned(args.collisions, args.resistances, args.categories)
     queue = grid_queue(WORK, KEPT)
     queue.parked = PARKED
-    if args.dry_run:
-        queue.show(runs)
-        return 0
-    if args.park:
-        for folder in queue.park(runs):
-            print(f"parked {folder}")
-        return 0
-    return queue.run_all(runs, args.jobs)
+    return queue.serve(runs, args.jobs, args.dry_run, args.park)
 
 
 if __name__ == "__main__":

@@ -108,14 +108,7 @@ def main() -> int:
         pilot_run(collision, cell, seed, args.placements)
         for seed, cell, collision in itertools.product(args.seeds, args.cells, args.collisions)
     ]
-    if args.dry_run:
-        QUEUE.show(runs)
-        return 0
-    if args.park:
-        for folder in QUEUE.park(runs):
-            print(f"parked {folder}")
-        return 0
-    return QUEUE.run_all(runs, args.jobs)
+    return QUEUE.serve(runs, args.jobs, args.dry_run, args.park)
 
 
 if __name__ == "__main__":

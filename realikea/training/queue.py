@@ -159,6 +159,18 @@ class RunQueue:
         for run in runs:
             print(f"{self.state(run)}: " + " ".join(self.command(run)[1:]))
 
+    def serve(self, runs: list[QueuedRun], jobs: int, dry_run: bool = False, park: bool = False):
+        """A driver's command on its runs: print them (`dry_run`), park the stopped ones
+        (`park`), or train them `jobs` at a time (`run_all`); returns the exit status."""
+        if dry_run:
+            self.show(runs)
+            return 0
+        if park:
+            for folder in self.park(runs):
+                print(f"parked {folder}")
+            return 0
+        return self.run_all(runs, jobs)
+
     def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
         """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
         queue = [r for r in runs if not self.kept(r)]
