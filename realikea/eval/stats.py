@@ -17,12 +17,13 @@ procedure": the family-wise error stays at 5 % however many differences a report
 
 from __future__ import annotations
 
-import itertools
 import math
 import sys
 from collections.abc import Sequence
 
 import numpy as np
+
+from realikea.eval.permutation import permutation_p
 
 Z95 = 1.959963984540054  # the standard normal's 97.5 % quantile
 
@@ -151,17 +152,7 @@ def seed_permutation_p(a: Sequence[tuple[int, int]], b: Sequence[tuple[int, int]
         raise ValueError("both groups need at least one run")
     for k, n in (*a, *b):
         _check(k, n)
-    rates = np.array([k / n for k, n in (*a, *b)])
-    total = rates.sum()
-
-    def gap(chosen) -> float:
-        inside = rates[list(chosen)].sum()
-        return abs(inside / len(a) - (total - inside) / len(b))
-
-    observed = gap(range(len(a)))
-    splits = list(itertools.combinations(range(len(rates)), len(a)))
-    extreme = sum(gap(chosen) >= observed - 1e-12 for chosen in splits)
-    return extreme / len(splits)
+    return permutation_p([k / n for k, n in a], [k / n for k, n in b])
 
 
 def _difference_draws(a, b, seed: int, draws: int) -> np.ndarray:
