@@ -174,6 +174,26 @@ def test_rerun_repeats_the_evaluation_of_a_finished_run(sweep, tmp_path, capsys)
     assert "not a training run" in capsys.readouterr().err
 
 
+def test_rerun_on_another_geometry_writes_its_own_file_and_checks_every_run_first(
+    sweep, tmp_path, capsys
+):
+    from realikea.cli import main
+
+    run = tmp_path / "run"
+    shutil.copytree(sweep / "hull_smooth_two_point_franka_hand_s0", run)
+    before = (run / "eval.json").read_text()
+    assert main(["eval", "rerun", "--collision", "nosuch", str(run)]) == 2
+    assert "nosuch" in capsys.readouterr().err and not (run / "eval_nosuch.json").exists()
+    assert main(["eval", "rerun", str(run), str(tmp_path), "--collision", "hull"]) == 2
+    assert not (run / "eval_hull.json").exists()  # the second folder is no run: nothing ran
+    assert main(["eval", "rerun", "--collision", "hull", str(run)]) == 0
+    own = json.loads((run / "eval_hull.json").read_text())
+    assert (run / "eval.json").read_text() == before
+    assert own["spec"]["collision"] == "hull" and list(own["modes"]) == ["smooth", "normal", "high"]
+    for entry in own["modes"].values():
+        assert "collision=hull" in entry["command"] and "collision=coacd" not in entry["command"]
+
+
 def fake_coacd_run(run, target):
     """A copy of the tiny run relabelled as CoACD, with pinch/hook strategies and successes
     (4 episodes a mode, so every rate below is a count of them, as in a real eval.json)."""

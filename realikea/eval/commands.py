@@ -57,7 +57,11 @@ def register(parser: argparse.ArgumentParser) -> None:
     sweep.set_defaults(run=lambda args: run_sweep(args.run_dir, args.overrides))
     again = commands.add_parser("rerun", help="repeat runs' end-of-training evaluation")
     again.add_argument("run_dirs", nargs="+", type=Path, help="training run directories")
-    again.set_defaults(run=lambda args: rerun(args.run_dirs))
+    again.add_argument(
+        "--collision", help="evaluate on this collision geometry instead of the spec's, into "
+        "eval_<collision>.json (eval.json untouched)",
+    )  # fmt: skip
+    again.set_defaults(run=lambda args: rerun(args.run_dirs, args.collision))
     failures = commands.add_parser("failures", help="the failure modes on episodes built to fail")
     failures.add_argument("--episodes", type=int, default=20, help="episodes per case")
     failures.add_argument("--seed", type=int, default=1000, help="the configurations' draw")

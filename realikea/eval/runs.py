@@ -104,9 +104,10 @@ def evaluate_run(
     run_overrides: list[str],
     train_seconds: float | None = None,
     default_split: str = DEFAULT_SPLIT,
+    eval_file: str = EVAL_FILE,
 ) -> dict:
     """Evaluate `checkpoint` under every mode of `spec.resistances` on the parts of
-    `spec.split` (else `default_split`); write and return eval.json."""
+    `spec.split` (else `default_split`); write and return `eval_file` (eval.json)."""
     run_dir = Path(run_dir)
     report: dict = {
         "checkpoint": Path(checkpoint).name,
@@ -137,7 +138,7 @@ def evaluate_run(
     report["eval_seconds"] = time.perf_counter() - begin
     report["spec"] = OmegaConf.to_container(spec, resolve=True)
     report["versions"] = result_versions()
-    atomic_write_text(run_dir / EVAL_FILE, json.dumps(report, indent=2) + "\n")
+    atomic_write_text(run_dir / eval_file, json.dumps(report, indent=2) + "\n")
     return report
 
 
@@ -181,26 +182,43 @@ def _override_value(value) -> str:
     return json.dumps(value)
 
 
-def rerun(runs: list[Path]) -> int:
-    """`realikea eval rerun DIR [DIR ...]`: evaluate each run's last checkpoint again with the
-    run's `train.eval_after` and command line, rewriting DIR/eval.json (training time kept);
-    on the run's split (`rerun_split`) unless its spec names one."""
-    for run in map(repo_path, runs):
-        hydra = run / ".hydra"
-        if not (hydra / "config.yaml").is_file() or not (hydra / "overrides.yaml").is_file():
-            raise RealIkeaError(f"{run}: not a training run (no .hydra/{{config,overrides}}.yaml)")
-        spec = OmegaConf.load(hydra / "config.yaml").train.get("eval_after")
-        if not spec:
-            raise RealIkeaError(f"{run}: the run has no train.eval_after to repeat")
-        found = checkpoints(run)
-        if not found:
-            raise RealIkeaError(f"{run}: no model_<iteration>.pt checkpoint")
-        previous = run / EVAL_FILE
-        seconds = None
-        if previous.is_file():
-            seconds = json.loads(previous.read_text()).get("train_seconds")
-        checkpoint = found[-1][1]
+def rerun(runs: list[Path], collision: str | None = None) -> int:
+    """`realikea eval rerun [--collision SOURCE] DIR [DIR ...]`: evaluate each run's last
+    checkpoint again with the run's `train.eval_after` and command line, rewriting DIR/eval.json
+    (training time kept); on the run's split (`rerun_split`) unless its spec names one. With
+    `collision`, on that geometry instead of the spec's, into DIR/eval_<collision>.json (eval.json
+    untouched): a hull-trained run on its own hull beside the protocol's CoACD. Every run is
+    checked before the first is evaluated."""
+    planned = [_rerun_plan(repo_path(run), collision) for run in runs]
+    for run, spec, checkpoint, run_overrides, seconds, split in planned:
         print(f"eval rerun {run.name}: {checkpoint.name}", flush=True)
-        run_overrides = [*OmegaConf.load(hydra / "overrides.yaml"), *run_scene(hydra)]
-        evaluate_run(spec, run, checkpoint, run_overrides, seconds, rerun_split(hydra))
+        eval_file = f"eval_{collision}.json" if collision else EVAL_FILE
+        evaluate_run(spec, run, checkpoint, run_overrides, seconds, split, eval_file)
     return 0
+
+
+def _rerun_plan(run: Path, collision: str | None) -> tuple:
+    """(run, spec, checkpoint, overrides, training seconds, split) of one rerun, its spec
+    composed for every mode (a bad run or collision fails here, before any evaluation)."""
+    hydra = run / ".hydra"
+    if not (hydra / "config.yaml").is_file() or not (hydra / "overrides.yaml").is_file():
+        raise RealIkeaError(f"{run}: not a training run (no .hydra/{{config,overrides}}.yaml)")
+    spec = OmegaConf.load(hydra / "config.yaml").train.get("eval_after")
+    if not spec:
+        raise RealIkeaError(f"{run}: the run has no train.eval_after to repeat")
+    if collision:
+        spec = OmegaConf.merge(spec, {"collision": collision})
+    found = checkpoints(run)
+    if not found:
+        raise RealIkeaError(f"{run}: no model_<iteration>.pt checkpoint")
+    previous = run / EVAL_FILE
+    seconds = None
+    if previous.is_file():
+        seconds = json.loads(previous.read_text()).get("train_seconds")
+    run_overrides = [*OmegaConf.load(hydra / "overrides.yaml"), *run_scene(hydra)]
+    split = rerun_split(hydra)
+    try:
+        check_eval_spec(spec, run_overrides, split)
+    except RealIkeaError as err:
+        raise RealIkeaError(f"{run}: {err}") from err
+    return run, spec, found[-1][1], run_overrides, seconds, split
