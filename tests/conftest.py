@@ -4,6 +4,7 @@ experiments' scripts as modules."""
 from __future__ import annotations
 
 import importlib.util
+import sys
 
 import pytest
 
@@ -18,13 +19,19 @@ SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "fl
 @pytest.fixture(scope="session")
 def load_script():
     """`load_script("experiments/x/y.py")`: an experiment's script imported as a module (the
-    experiments folder is no package)."""
+    experiments folder is no package), its folder on sys.path while it loads, as when run, so
+    it can import its sibling scripts."""
 
     def load(relative: str):
         path = WORKSPACE / relative
         spec = importlib.util.spec_from_file_location(path.stem, path)
         module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
+        sys.modules[path.stem] = module  # where dataclasses look their module up
+        sys.path.insert(0, str(path.parent))
+        try:
+            spec.loader.exec_module(module)
+        finally:
+            sys.path.remove(str(path.parent))
         return module
 
     return load
