@@ -37,9 +37,7 @@ def make_run(root, collision, resistance, category, seed, success, hook=0.0, lea
     OmegaConf.save(cfg, run / ".hydra" / "config.yaml")
     rows = ["iteration,tag,value"] + [f"{i},/episode/success,{float(learned)}" for i in range(40)]
     (run / "metrics.csv").write_text("\n".join(rows) + "\n")
-    shares = dict.fromkeys(STRATEGIES, 0.0) | (
-        {"hook": hook, "pinch": 1 - hook} if success else {}
-    )
+    shares = dict.fromkeys(STRATEGIES, 0.0) | ({"hook": hook, "pinch": 1 - hook} if success else {})
     mode = {"episodes": 50, "success": success, "success_strategies": shares}
     report = {"checkpoint": "model_39.pt", "modes": dict.fromkeys(MODES, mode)}
     (run / "eval.json").write_text(json.dumps(report))
