@@ -8,10 +8,11 @@ checkpoint on the test parts (CoACD geometry) in smooth, normal and high.
     python experiments/fidelity_ablation/grid_v2.py --park     # stopped runs' state into git
 
 The recipe is frozen in results/grid_v2/recipe.yaml (`--freeze` writes today's resolved task,
-agent, scene, sim and pose ranges there, and refuses to overwrite it). Every run composes it as a
-config group from this folder's results/ (`hydra.searchpath`, `+grid_v2=recipe`), so later changes
-to the defaults do not change the grid's runs. Runs train in outputs/grid_v2/NAME, resume from
-their last checkpoint, and are kept in results/grid_v2/NAME (realikea/training/fidelity_grid.py).
+agent, scene, sim, gripper, contact and pose ranges there, and refuses to overwrite it). Every
+run composes it as a config group from this folder's results/ (`hydra.searchpath`,
+`+grid_v2=recipe`), so later changes to the defaults do not change the grid's runs. Runs train in
+outputs/grid_v2/NAME, resume from their last checkpoint, and are kept in results/grid_v2/NAME
+(realikea/training/fidelity_grid.py).
 Seeds, schedule, checkpoint rule and the registered comparisons: README.md, "The grid on today's
 recipe".
 """
@@ -44,7 +45,7 @@ SEEDS = (100, 101, 102)
 FIVE_SEEDS = (100, 101, 102, 103, 104)  # the cells of the registered comparisons
 FIVE_SEED_CELLS = {("two_point", "smooth"), ("two_point", "high"), ("knob", "high")}
 ITERATIONS, SWITCH = 600, 300  # fixed poses to SWITCH, then randomized
-PINNED = ("task", "agent", "scene", "sim")  # whole groups the recipe pins
+PINNED = ("task", "agent", "scene", "sim", "gripper", "contact")  # whole groups the recipe pins
 PINNED_DR = ("handle", "base")  # the pose ranges; the mode is the run's (two_phase) or eval's
 # what every run sets besides its recipe (not part of the science: how it runs here)
 RUN_SETTINGS = {
