@@ -82,3 +82,19 @@ def test_smooth_policies_in_high_are_compared_within_each_category(report, tmp_p
     assert third["difference"] == pytest.approx(0.06)
     # within-category permutations only: 6 ** 3 assignments, two as extreme as observed
     assert third["p"] == pytest.approx(2 / 216)
+    assert third["low"] is not None and 0 < third["low"] < 0.06 < third["high"]
+    text = (tmp_path / "report.md").read_text()
+    assert "| 3. trained in smooth" in text and "[+0.0" in text
+
+
+def test_an_interval_no_shift_bounds_is_written_as_infinite(report, tmp_path):
+    for collision, hook in (("coacd", 0.9), ("hull", 0.1)):
+        for seed in (100, 101, 102):
+            make_run(tmp_path, collision, "high", "two_point", seed, 0.8, hook)
+    assert report.main() == 0
+    first = json.loads((tmp_path / "comparisons.json").read_text())["registered"][0]
+    assert first["p"] == pytest.approx(0.1) and (first["low"], first["high"]) == (None, None)
+    assert (
+        "+0.80 [−∞, ∞] | 0.1000 | 0.4000 | not significant |"
+        in (tmp_path / "report.md").read_text()
+    )

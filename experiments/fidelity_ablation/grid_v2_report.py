@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import sys
 from dataclasses import dataclass
 
@@ -107,7 +108,7 @@ def compare(comparison: Comparison, runs: list[dict]) -> dict:
            "values": strata, "unevaluated": missing}  # fmt: skip
     if any(not a or not b for a, b in strata):
         return {**out, "difference": None}
-    low, high = shift_interval(strata)
+    low, high = (None if math.isinf(end) else end for end in shift_interval(strata))
     return {**out, "difference": stratified_difference(strata), "low": low, "high": high,
             "p": permutation_p(strata)}  # fmt: skip
 
@@ -171,7 +172,13 @@ def cell_lines(runs: list[dict]) -> list[str]:
     return lines
 
 
+def _end(value: float | None, unbounded: str) -> str:
+    return unbounded if value is None else f"{value:+.2f}"
+
+
 def comparison_lines(results: list[dict]) -> list[str]:
+    """A row a comparison; an interval end that no shift in reach bounds (three policies a
+    side cannot reject any) shows as infinite."""
     lines = [
         "| comparison | CoACD / hull policies | CoACD − hull [95 %] | p | Holm p | verdict |",
         "|---|---|---|---:|---:|---|",
@@ -184,7 +191,8 @@ def comparison_lines(results: list[dict]) -> list[str]:
         verdict = "significant" if r["significant"] else "not significant"
         lines.append(
             f"| {r['comparison']} | {sizes} | {r['difference']:+.2f} "
-            f"[{r['low']:+.2f}, {r['high']:+.2f}] | {r['p']:.4f} | {r['p_holm']:.4f} | {verdict} |"
+            f"[{_end(r['low'], '−∞')}, {_end(r['high'], '∞')}] | {r['p']:.4f} | "
+            f"{r['p_holm']:.4f} | {verdict} |"
         )
     return lines
 

@@ -69,7 +69,9 @@ def main() -> None:
         f"Learned: the first full {LEARNED_WINDOW}-iteration window of training success "
         f">= {LEARNED}, from any iteration and from the switch to randomized poses ({SWITCH}); "
         f"the last columns average the last {LAST} logged iterations. A run stops once it has "
-        "learned on randomized poses; a run still training or parked is shown as far as it got.",
+        "learned on randomized poses; a run still training or parked is shown as far as it got. "
+        "A name ending in `_none` is a placement check: the screen's placement "
+        "(`scene.robot.placements=[]`, the arm 0.80 m below every handle) instead of today's.",
         "",
         "| run | state | iterations | learned at | on randomized poses at | success, last 30 "
         "| end stages, last 30 | minutes |",
