@@ -98,3 +98,22 @@ def test_an_interval_no_shift_bounds_is_written_as_infinite(report, tmp_path):
         "+0.80 [−∞, ∞] | 0.1000 | 0.4000 | not significant |"
         in (tmp_path / "report.md").read_text()
     )
+
+
+def test_the_extra_evaluations_pick_hull_runs_and_the_two_point_high_policies(
+    load_script, monkeypatch, tmp_path
+):
+    evals = load_script("experiments/fidelity_ablation/grid_v2_eval.py")
+    monkeypatch.setattr(evals, "KEPT", tmp_path)
+    for name in ("coacd_high_two_point_s100", "hull_high_two_point_s100", "hull_high_knob_s100"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "eval.json").write_text("{}")
+        (tmp_path / name / "model_599.pt").write_bytes(b"")
+    (tmp_path / "hull_high_knob_s101").mkdir()  # still training: no eval.json
+    (tmp_path / "hull_high_knob_s100" / "eval_hull.json").write_text("{}")  # already done
+    runs = evals.kept_runs()
+    assert [r.name for r in evals.own_geometry_todo(runs)] == ["hull_high_two_point_s100"]
+    assert evals.phase_policies(runs) == [
+        f"{name}={tmp_path / name / 'model_599.pt'}"
+        for name in ("coacd_high_two_point_s100", "hull_high_two_point_s100")
+    ]
