@@ -46,6 +46,7 @@ class RslRlVecEnv(VecEnv):
         num_steps_per_env: int,
         device: str = "cpu",
         draw=None,
+        labels: list[tuple] | None = None,
     ):
         if int(num_steps_per_env) < 1:
             raise RealIkeaError(f"num_steps_per_env={num_steps_per_env}: use 1 or more")
@@ -61,6 +62,15 @@ class RslRlVecEnv(VecEnv):
         self.common_step_counter = 0
         self.iteration = pool.iteration
         self.draw = draw
+        self.labels = labels if labels is not None else []  # env i's group; a draw updates it
+
+    def group_index(self) -> torch.Tensor:
+        """Each env's task group as an index (its label's place among the sorted labels); all 0
+        without labels (a draw not stratified)."""
+        if not self.labels:
+            return torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        order = {label: i for i, label in enumerate(sorted(set(self.labels)))}
+        return torch.tensor([order[x] for x in self.labels], device=self.device)
 
     # --- iteration ----------------------------------------------------------------------------
     def set_iteration(self, iteration: int) -> None:

@@ -20,6 +20,14 @@ from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.rewards import reward_from_config, variant_name
 from realikea.training.success_draw import SuccessFollowingDraw
 
+GROUP_PPO = "realikea.training.group_ppo:GroupPPO"
+
+
+def algorithm_class(agent: DictConfig) -> str:
+    """rsl-rl's PPO, or with `agent.group_advantages` (absent: off) `GroupPPO`, which normalises
+    advantages per task group."""
+    return GROUP_PPO if agent.get("group_advantages") else "PPO"
+
 
 def runner_config(cfg: DictConfig) -> dict:
     """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`."""
@@ -37,7 +45,10 @@ def runner_config(cfg: DictConfig) -> dict:
         "num_steps_per_env": int(agent.num_steps_per_env),
         "save_interval": int(agent.save_interval),
         "obs_groups": {"actor": ["policy"], "critic": ["critic"]},
-        "algorithm": {"class_name": "PPO", **OmegaConf.to_container(agent.algorithm)},
+        "algorithm": {
+            "class_name": algorithm_class(agent),
+            **OmegaConf.to_container(agent.algorithm),
+        },
         "actor": {
             **model,
             "hidden_dims": list(agent.actor_hidden_dims),
@@ -142,7 +153,9 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     follow = draw if isinstance(draw, SuccessFollowingDraw) else None
     pool = EnvPool(cfg, follow.paths() if follow else built_models(cfg, draw.configurations))
     try:
-        env = RslRlVecEnv(pool, cfg, int(cfg.agent.num_steps_per_env), draw=follow)
+        env = RslRlVecEnv(
+            pool, cfg, int(cfg.agent.num_steps_per_env), draw=follow, labels=draw.labels
+        )
         runner = Runner(
             env,
             runner_config(cfg),
