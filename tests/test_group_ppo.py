@@ -69,3 +69,22 @@ def test_the_env_numbers_the_draws_groups_and_follows_a_draw_that_moves_envs():
     labels[1] = ("knob", "door")  # a success-following draw moves env 1 (in place)
     assert env.group_index().tolist() == [0, 0, 0]
     assert RslRlVecEnv(pool, load_config(), 8).group_index().tolist() == [0, 0, 0]
+
+
+def test_the_log_gives_each_groups_success_and_mean_end_stage():
+    from realikea.pool.rsl_rl_env import RslRlVecEnv
+
+    pool = SimpleNamespace(num_envs=3, num_actions=2, obs_size=4, horizon=10, iteration=0)
+    pool.counters = {}
+    env = RslRlVecEnv(pool, load_config(), 8)
+    episode = {"termination": "timeout", "opening": 0.0, "category": "knob"}
+    log = env._log(
+        [
+            {**episode, "kind": "door", "outcome": "success", "stage": 4},
+            {**episode, "kind": "door", "outcome": "fail", "stage": 2},
+            {**episode, "kind": "drawer", "outcome": "fail", "stage": 1},
+        ]
+    )
+    assert log["/success/knob_door"].tolist() == [1.0, 0.0]
+    assert log["/group_stage/knob_door"].mean() == 3.0
+    assert log["/group_stage/knob_drawer"].tolist() == [1.0]

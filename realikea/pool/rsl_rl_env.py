@@ -128,8 +128,10 @@ class RslRlVecEnv(VecEnv):
         """Per-episode values (rsl-rl averages them over the iteration): outcome indicators, each
         reward term's episode sum (`/episode_reward/<term>`), the reward stage an episode ended
         in (`/end_stage/<1-4>`), termination indicators
-        (`/termination/<name>`), success per category and kind (`/success/<category>_<kind>`,
-        over the iteration's episodes of that group); and the pool's counters."""
+        (`/termination/<name>`), success and the mean end stage per category and kind
+        (`/success/<category>_<kind>`, `/group_stage/<category>_<kind>`, over the iteration's
+        episodes of that group: a group stuck before the pull shows as a low stage); and the
+        pool's counters."""
         log: dict[str, float | torch.Tensor] = {}
         if episodes:
             names = [e["termination"] for e in episodes]
@@ -152,8 +154,12 @@ class RslRlVecEnv(VecEnv):
             groups: dict[str, list[float]] = {}
             for e in finished:
                 if "category" in e:
-                    group = groups.setdefault(f"/success/{e['category']}_{e['kind']}", [])
-                    group.append(float(e["outcome"] == "success"))
+                    group = f"{e['category']}_{e['kind']}"
+                    groups.setdefault(f"/success/{group}", []).append(
+                        float(e["outcome"] == "success")
+                    )
+                    if "stage" in e:
+                        groups.setdefault(f"/group_stage/{group}", []).append(float(e["stage"]))
             log.update({name: torch.tensor(values) for name, values in sorted(groups.items())})
         for name, value in self.pool.counters.items():
             log[f"/pool/{name}"] = float(value)
