@@ -1,0 +1,67 @@
+"""The generalist screen's adoption rule, applied to a candidate's runs (written before them):
+adopt a candidate only if, on every seed run, every category x kind group's training success over
+the run's last full WINDOW-iteration window is at least LEARNED.
+
+    python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]   # one per seed
+
+A run's last full window is its last WINDOW iterations (iterations N - WINDOW .. N - 1 of a run
+that logged N); a group's value is the mean of its `/success/<category>_<kind>` entries there (an
+entry is that iteration's share of the group's finished episodes). A group with no entry in the
+window, or a run shorter than the window, fails. Prints a row per run and the verdict; exit 0
+when the candidate is adopted, 1 when not, 2 on bad input.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from realikea.reports.generalist import CATEGORIES, KINDS
+from realikea.training.metrics import read_metrics
+
+WINDOW, LEARNED = 25, 0.5
+GROUPS = [f"{category}_{kind}" for kind in KINDS for category in CATEGORIES]
+
+
+def last_window(run: Path) -> dict[str, float | None]:
+    """Each group's mean training success over the run's last full WINDOW iterations (None:
+    no entry there, or the run is shorter than the window)."""
+    metrics = read_metrics(run)
+    # rsl-rl's `.../time` tags are stepped in seconds, every other tag in iterations
+    logged = [its for tag, (its, _) in metrics.items() if len(its) and not tag.endswith("/time")]
+    last = max(int(np.max(its)) for its in logged) if logged else -1
+    out: dict[str, float | None] = {}
+    for group in GROUPS:
+        its, values = (np.asarray(x) for x in metrics.get(f"/success/{group}", ([], [])))
+        chosen = values[its >= last - WINDOW + 1] if last + 1 >= WINDOW else values[:0]
+        out[group] = float(chosen.mean()) if chosen.size else None
+    return out
+
+
+def passes(values: dict[str, float | None]) -> bool:
+    return all(v is not None and v >= LEARNED for v in values.values())
+
+
+def main(argv: list[str]) -> int:
+    runs = [Path(a) for a in argv]
+    missing = [r for r in runs if not (r / "metrics.csv").is_file()]
+    if not runs or missing:
+        print(f"usage: screen_rule.py RUN_DIR ...; no metrics.csv in {missing}", file=sys.stderr)
+        return 2
+    print("| run | " + " | ".join(GROUPS) + " | passes |")
+    print("|---|" + "---:|" * len(GROUPS) + "---|")
+    verdicts = []
+    for run in runs:
+        values = last_window(run)
+        verdicts.append(passes(values))
+        shown = ["–" if v is None else f"{v:.2f}" for v in values.values()]
+        print(f"| {run} | " + " | ".join(shown) + f" | {'yes' if verdicts[-1] else 'no'} |")
+    adopted = all(verdicts)
+    print(f"adopted: {'yes' if adopted else 'no'} ({sum(verdicts)} of {len(runs)} runs pass)")
+    return 0 if adopted else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
