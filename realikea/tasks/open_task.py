@@ -48,6 +48,7 @@ from realikea.tasks.grip import NO_GRIP, GripSensor
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
 from realikea.tasks.rewards import StepValues, reward_from_config
+from realikea.tasks.start_state import PregraspStart
 from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 
 ACTION_SIZE = 5
@@ -132,6 +133,7 @@ class OpenTask:
         self.gripper = GripperModel.from_config(cfg.gripper)
         self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
         self.randomization = Randomization.from_config(cfg.dr)
+        self.start = PregraspStart.from_config(task)
         self.rng = np.random.default_rng(seed)
         self.decimation = int(task.decimation)
         self.horizon = round(
@@ -314,10 +316,22 @@ class OpenTask:
         # the paper's approach offsets share one lateral bias, along the handle's long axis
         lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
+        if self.start.draws(f"{self.part.category}_{self.base.kind}", self.rng):
+            self._start_at_pregrasp()
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)
         self.state.progress = values.progress
         return self.observe()
+
+    def _start_at_pregrasp(self) -> None:
+        """Put the arm at the pre-grasp pose (`realikea/tasks/start_state.py`): the TCP at the
+        first approach target at the nominal pitch, the gripper open, the front closed. Where IK
+        cannot reach it the episode starts at home."""
+        try:
+            posture = self.ik.converge(self.home, self._nominal_handle + self._t1, 0.0)
+        except RealIkeaError:
+            return
+        reset_home(self.model, self.data, self.cfg, posture)
 
     def apply_action(self, action) -> bool:
         """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""

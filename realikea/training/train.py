@@ -18,6 +18,7 @@ from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_sa
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.rewards import reward_from_config, variant_name
+from realikea.tasks.start_state import PregraspStart
 from realikea.training.success_draw import SuccessFollowingDraw
 
 GROUP_PPO = "realikea.training.group_ppo:GroupPPO"
@@ -133,6 +134,7 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
     the draw (not yet built)."""
     check_settings(cfg)
     reward_from_config(OmegaConf.to_container(cfg.task.reward))  # a bad variant fails here
+    PregraspStart.from_config(cfg.task)  # a bad share or group too
     if cfg.train.console not in CONSOLES:
         raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
