@@ -1,6 +1,7 @@
 """The fidelity grid v2's evaluations beyond each run's own eval.json (CoACD geometry, written when
-the run finished): hull runs on their own hull, and the hard-pad phase map of the two-point x
-high policies (registered comparison 4). Resumable: what is done is skipped.
+the run finished): hull runs on their own hull, the hard-pad phase map of the two-point x high
+policies (registered comparison 4), and frames of each strategy label a policy shows. Resumable:
+what is done is skipped.
 
     python experiments/fidelity_ablation/grid_v2_eval.py            # both, for every kept run
     python experiments/fidelity_ablation/grid_v2_eval.py --dry-run  # what would run
@@ -10,7 +11,10 @@ parts, smooth/normal/high, 50 episodes a mode, randomized poses, draw 1000) into
 RUN/eval_hull.json. Phase map: every kept two-point x high policy in high at pad friction
 PHASE_FRICTION and grip forces PHASE_FORCES per jaw, the recipe's elliptic cones, 50 episodes a
 cell on the same draw, the recipe composed (the grid's scene and placements), one JSON line a
-cell in results/grid_v2/phase_map/cells.jsonl, labelled by run name.
+cell in results/grid_v2/phase_map/cells.jsonl, labelled by run name. Frames: VIDEO_EPISODES
+episodes of the run's evaluation under its training resistance, the first of each strategy label
+as a four-frame strip (committed) and an MP4 (git-ignored) in RUN/videos/, to look at before a
+strategy is credited.
 """
 
 from __future__ import annotations
@@ -22,6 +26,8 @@ from grid_v2 import KEPT, RECIPE_OVERRIDES
 
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import rerun
+from realikea.reports.fidelity_ablation.runs import find_runs
+from realikea.reports.fidelity_ablation.videos import record_videos
 from realikea.reports.phase_map import evaluate_phase_map, map_policy
 
 OWN = "hull"  # the runs whose own geometry is not the protocol's
@@ -30,6 +36,7 @@ PHASE_CELL = ("two_point", "high")  # (category, training resistance) of the map
 PHASE_FRICTION, PHASE_FORCES, PHASE_CONE = 0.3, (40.0, 70.0), "elliptic"  # the hard pad
 PHASE_EPISODES, PHASE_SEED = 50, 1000
 PHASE_RESULTS = KEPT / "phase_map" / "cells.jsonl"
+VIDEO_EPISODES = 8
 
 
 def kept_runs() -> list:
@@ -56,7 +63,8 @@ def main() -> int:
     todo, mapped = own_geometry_todo(runs), phase_policies(runs)
     print(f"{len(runs)} kept runs; {len(todo)} to evaluate on the {OWN}; {len(mapped)} mapped")
     if args.dry_run:
-        print("\n".join([*(f"own: {r.name}" for r in todo), *(f"map: {m}" for m in mapped)]))
+        for line in [*(f"own: {r.name}" for r in todo), *(f"map: {m}" for m in mapped)]:
+            print(line)
         return 0
     try:
         if todo:
@@ -65,6 +73,7 @@ def main() -> int:
             [map_policy(m) for m in mapped], [PHASE_CELL[0]], PHASE_RESULTS, PHASE_FORCES,
             [PHASE_FRICTION], [PHASE_CONE], PHASE_EPISODES, PHASE_SEED, RECIPE_OVERRIDES,
         )  # fmt: skip
+        record_videos([r for r in find_runs([KEPT]) if r["dir"].parent == KEPT], VIDEO_EPISODES)
     except RealIkeaError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
