@@ -68,6 +68,8 @@ def test_registered_comparisons_by_hand(report, tmp_path):
     text = (tmp_path / "report.md").read_text()
     assert "11 of 66 planned runs kept; 10 learned." in text
     assert "| two_point | high | hull | 6 / 5 | 5 |" in text and "not computable yet" in text
+    # the phase map has not run: comparison 4 has 11 kept policies without a value
+    assert "| 0 / 0 (11 kept, not yet evaluated) | not computable yet |" in text
 
 
 def test_smooth_policies_in_high_are_compared_within_each_category(report, tmp_path):

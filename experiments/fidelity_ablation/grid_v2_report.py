@@ -185,6 +185,8 @@ def comparison_lines(results: list[dict]) -> list[str]:
     ]
     for r in results:
         sizes = " + ".join(f"{len(a)} / {len(b)}" for a, b in r["values"])
+        if r["unevaluated"]:
+            sizes += f" ({r['unevaluated']} kept, not yet evaluated)"
         if r["difference"] is None:
             lines.append(f"| {r['comparison']} | {sizes} | not computable yet | | | |")
             continue
