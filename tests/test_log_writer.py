@@ -4,6 +4,7 @@ of the iterations."""
 from __future__ import annotations
 
 import csv
+import time
 
 import pytest
 import torch
@@ -54,6 +55,18 @@ def test_the_progress_bar_counts_iterations_not_the_seconds_of_time_tags(tmp_pat
     assert "3/3" in bar and "success=0.50" in bar and "reward=1.00" in bar
 
 
+def closed_run_file(run_dir, timeout: float = 120.0):
+    """The run's `.wandb` file once wandb's writer process has closed it (its `exit` record is
+    in): `finish()` returns before that process has flushed on a loaded machine."""
+    deadline = time.monotonic() + timeout
+    while True:
+        path = run_file(run_dir)
+        kinds = {r.WhichOneof("record_type") for r in wandb_records(path)}
+        if "exit" in kinds or time.monotonic() > deadline:
+            return path
+        time.sleep(0.5)
+
+
 def test_wandb_keeps_every_iteration_of_a_run_whose_iterations_take_seconds(tmp_path, monkeypatch):
     """rsl-rl's own logger, iterations of 2 s: wandb holds the reward and the success of every
     iteration at steps 0 ... N-1 (its `/time` tags, stepped in seconds, used to move wandb's
@@ -79,7 +92,7 @@ def test_wandb_keeps_every_iteration_of_a_run_whose_iterations_take_seconds(tmp_
         logger.log(it, 0, iterations, 1.5, 0.5, {"surrogate": 0.0}, 1e-3, torch.ones(4), None)
     logger.stop_logging_writer()
 
-    history = wandb_history(run_file(tmp_path))
+    history = wandb_history(closed_run_file(tmp_path))
     steps = list(range(iterations))
     assert history["Train/mean_reward"] == {it: it / 2 for it in steps}  # mean of 0..it
     assert history["episode/success"] == pytest.approx({it: 0.1 * it for it in steps})
