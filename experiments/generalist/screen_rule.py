@@ -18,11 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from realikea.reports.generalist import CATEGORIES, KINDS
+from realikea.assets.catalog import GROUPS
 from realikea.training.metrics import read_metrics
 
 WINDOW, LEARNED = 25, 0.5
-GROUPS = [f"{category}_{kind}" for kind in KINDS for category in CATEGORIES]
 
 
 def last_window(run: Path) -> dict[str, float | None]:

@@ -26,6 +26,8 @@ FRICTION_CLASSES = {
     "rubberized": 0.9,
 }
 BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
+# the category x kind groups by name, as training logs them (`/success/<category>_<kind>`)
+GROUPS = tuple(f"{category}_{kind}" for kind in BASE_KINDS for category in CATEGORIES)
 
 
 def catalog_dir() -> Path:

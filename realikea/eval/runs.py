@@ -190,9 +190,9 @@ def rerun(runs: list[Path], collision: str | None = None) -> int:
     untouched): a hull-trained run on its own hull beside the protocol's CoACD. Every run is
     checked before the first is evaluated."""
     planned = [_rerun_plan(repo_path(run), collision) for run in runs]
+    eval_file = f"eval_{collision}.json" if collision else EVAL_FILE
     for run, spec, checkpoint, run_overrides, seconds, split in planned:
         print(f"eval rerun {run.name}: {checkpoint.name}", flush=True)
-        eval_file = f"eval_{collision}.json" if collision else EVAL_FILE
         evaluate_run(spec, run, checkpoint, run_overrides, seconds, split, eval_file)
     return 0
 

@@ -18,10 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from omegaconf import DictConfig
 
-from realikea.assets.catalog import BASE_KINDS, CATEGORIES
+from realikea.assets.catalog import GROUPS
 from realikea.errors import RealIkeaError
-
-GROUPS = tuple(f"{category}_{kind}" for kind in BASE_KINDS for category in CATEGORIES)
 
 
 @dataclass(frozen=True)
