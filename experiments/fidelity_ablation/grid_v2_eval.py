@@ -44,6 +44,11 @@ def kept_runs() -> list:
     return sorted(p.parent for p in KEPT.glob("*/eval.json"))
 
 
+def kept_records(kept=KEPT) -> list[dict]:
+    """`find_runs`'s record of each kept grid run (not the pilot's, in a subfolder)."""
+    return [r for r in find_runs([kept]) if r["dir"].parent == kept]
+
+
 def own_geometry_todo(runs) -> list:
     return [r for r in runs if r.name.startswith(f"{OWN}_") and not (r / OWN_FILE).is_file()]
 
@@ -73,7 +78,7 @@ def main() -> int:
             [map_policy(m) for m in mapped], [PHASE_CELL[0]], PHASE_RESULTS, PHASE_FORCES,
             [PHASE_FRICTION], [PHASE_CONE], PHASE_EPISODES, PHASE_SEED, RECIPE_OVERRIDES,
         )  # fmt: skip
-        record_videos([r for r in find_runs([KEPT]) if r["dir"].parent == KEPT], VIDEO_EPISODES)
+        record_videos(kept_records(), VIDEO_EPISODES)
     except RealIkeaError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2

@@ -21,13 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from grid_v2 import CATEGORIES, COLLISIONS, KEPT, RESISTANCES, planned
-from grid_v2_eval import OWN, OWN_FILE, PHASE_FORCES, PHASE_FRICTION, PHASE_RESULTS
+from grid_v2_eval import OWN, OWN_FILE, PHASE_FORCES, PHASE_FRICTION, PHASE_RESULTS, kept_records
 
 from realikea.eval.permutation import shift_interval, stratified_difference
 from realikea.eval.permutation import stratified_permutation_p as permutation_p
 from realikea.eval.stats import holm
 from realikea.files import atomic_write_text
-from realikea.reports.fidelity_ablation.runs import find_runs, iterations_to_success
+from realikea.reports.fidelity_ablation.runs import iterations_to_success
 from realikea.reports.phase_map import read_cells
 from realikea.sim.resistance import MODES
 
@@ -76,7 +76,7 @@ REGISTERED = (
 
 def load_runs() -> list[dict]:
     """The kept runs with their evaluations by geometry, phase-map cells and learned iteration."""
-    runs = [r for r in find_runs([KEPT]) if r["dir"].parent == KEPT]
+    runs = kept_records(KEPT)
     cells = read_cells(PHASE_RESULTS)
     for run in runs:
         run["name"] = run["dir"].name
