@@ -26,8 +26,14 @@ FRICTION_CLASSES = {
     "rubberized": 0.9,
 }
 BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
-# the category x kind groups by name, as training logs them (`/success/<category>_<kind>`)
-GROUPS = tuple(f"{category}_{kind}" for kind in BASE_KINDS for category in CATEGORIES)
+
+
+def group_name(category: str, kind: str) -> str:
+    """A category x kind group's name, as training logs it (`/success/<category>_<kind>`)."""
+    return f"{category}_{kind}"
+
+
+GROUPS = tuple(group_name(category, kind) for kind in BASE_KINDS for category in CATEGORIES)
 
 
 def catalog_dir() -> Path:
@@ -105,6 +111,11 @@ class Configuration:
     @property
     def id(self) -> str:
         return f"{self.part.id}__{self.base.id}"
+
+    @property
+    def group(self) -> str:
+        """Its category x kind group (`GROUPS`)."""
+        return group_name(self.part.category, self.base.kind)
 
 
 class Catalog:

@@ -20,6 +20,7 @@ from omegaconf import DictConfig, OmegaConf
 from rsl_rl.env import VecEnv
 from tensordict import TensorDict
 
+from realikea.assets.catalog import group_name
 from realikea.errors import RealIkeaError
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.outcome import OUTCOMES
@@ -47,6 +48,7 @@ class RslRlVecEnv(VecEnv):
         device: str = "cpu",
         draw=None,
         labels: list[tuple] | None = None,
+        groups: list[str] | None = None,
     ):
         if int(num_steps_per_env) < 1:
             raise RealIkeaError(f"num_steps_per_env={num_steps_per_env}: use 1 or more")
@@ -63,6 +65,7 @@ class RslRlVecEnv(VecEnv):
         self.iteration = pool.iteration
         self.draw = draw
         self.labels = labels if labels is not None else []  # env i's group; a draw updates it
+        self.groups = groups or []  # env i's category x kind group name (distillation routes on it)
 
     def group_index(self) -> torch.Tensor:
         """Each env's task group as an index (its label's place among the sorted labels); all 0
@@ -154,7 +157,7 @@ class RslRlVecEnv(VecEnv):
             groups: dict[str, list[float]] = {}
             for e in finished:
                 if "category" in e:
-                    group = f"{e['category']}_{e['kind']}"
+                    group = group_name(e["category"], e["kind"])
                     groups.setdefault(f"/success/{group}", []).append(
                         float(e["outcome"] == "success")
                     )

@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog, group_name
 from realikea.errors import RealIkeaError
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, GripperModel
@@ -316,7 +316,7 @@ class OpenTask:
         # the paper's approach offsets share one lateral bias, along the handle's long axis
         lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
-        if self.start.draws(f"{self.part.category}_{self.base.kind}", self.rng):
+        if self.start.draws(group_name(self.part.category, self.base.kind), self.rng):
             self._start_at_pregrasp()
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)

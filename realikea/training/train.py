@@ -19,6 +19,7 @@ from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.rewards import reward_from_config, variant_name
 from realikea.tasks.start_state import PregraspStart
+from realikea.training.distillation import distillation_config, distilling, teacher_checkpoints
 from realikea.training.success_draw import SuccessFollowingDraw
 
 GROUP_PPO = "realikea.training.group_ppo:GroupPPO"
@@ -111,6 +112,28 @@ def load_checkpoint(runner: OnPolicyRunner, path: Path) -> None:
         raise RealIkeaError(f"{path}: cannot be loaded as an rsl-rl checkpoint ({err})") from err
 
 
+def check_init_actor(cfg: DictConfig) -> None:
+    """Refuse a `train.init_actor` that is missing, unreadable, on another observation layout,
+    or given with `train.resume` (which restores the actor itself)."""
+    path = Path(cfg.train.init_actor)
+    if cfg.train.resume:
+        raise RealIkeaError(
+            f"train.init_actor={path} with train.resume: a resumed run restores its own actor"
+        )
+    check_layout(path, load_saved(path))
+
+
+def init_actor(runner: OnPolicyRunner, path: Path) -> None:
+    """Start the policy (weights, action std, observation normaliser) from the actor of the
+    checkpoint at `path` (`check_init_actor` first); the critic and the optimiser start fresh."""
+    try:
+        runner.alg.get_policy().load_state_dict(load_saved(path)["actor_state_dict"])
+    except RuntimeError as err:
+        raise RealIkeaError(
+            f"train.init_actor={path}: its actor does not match this run's network ({err})"
+        ) from err
+
+
 CONSOLES = ("bar", "report")
 
 
@@ -139,10 +162,31 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
         raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
         check_resumable(Path(cfg.train.resume), cfg)
+    if cfg.train.get("init_actor"):
+        check_init_actor(cfg)
     n, seed = int(cfg.env.num_envs), int(cfg.env.seed)
     if cfg.asset.get("follow_success") is not None:
-        return SuccessFollowingDraw.from_config(cfg, n, seed)
-    return training_draw(cfg, n, seed)
+        draw = SuccessFollowingDraw.from_config(cfg, n, seed)
+    else:
+        draw = training_draw(cfg, n, seed)
+    if distilling(cfg):
+        teacher_checkpoints(cfg, env_groups(draw))
+    return draw
+
+
+def env_groups(draw: SuccessFollowingDraw | TrainingDraw) -> list[str]:
+    """Each env's category x kind group; none for a success-following draw, which moves envs
+    between groups as it goes."""
+    return [] if isinstance(draw, SuccessFollowingDraw) else [c.group for c in draw.configurations]
+
+
+def train_config(cfg: DictConfig, draw: SuccessFollowingDraw | TrainingDraw) -> dict:
+    """rsl-rl's train_cfg: PPO's (`runner_config`), or the distillation's when the run distils
+    teachers (`distill.teachers`)."""
+    ppo = runner_config(cfg)
+    if not distilling(cfg):
+        return ppo
+    return distillation_config(cfg, ppo, teacher_checkpoints(cfg, env_groups(draw)))
 
 
 def train(cfg: DictConfig, run_dir: Path) -> Path:
@@ -156,11 +200,16 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     pool = EnvPool(cfg, follow.paths() if follow else built_models(cfg, draw.configurations))
     try:
         env = RslRlVecEnv(
-            pool, cfg, int(cfg.agent.num_steps_per_env), draw=follow, labels=draw.labels
+            pool,
+            cfg,
+            int(cfg.agent.num_steps_per_env),
+            draw=follow,
+            labels=draw.labels,
+            groups=env_groups(draw),
         )
         runner = Runner(
             env,
-            runner_config(cfg),
+            train_config(cfg, draw),
             log_dir=str(run_dir),
             device=cfg.train.device,
             infos=checkpoint_infos(cfg),
@@ -168,6 +217,8 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         if cfg.train.resume:
             load_checkpoint(runner, Path(cfg.train.resume))
             env.set_iteration(runner.current_learning_iteration)
+        elif cfg.train.get("init_actor"):
+            init_actor(runner, Path(cfg.train.init_actor))
         with console(cfg, run_dir):
             runner.learn(
                 int(cfg.agent.max_iterations),
