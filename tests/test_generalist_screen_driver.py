@@ -1,0 +1,79 @@
+"""The generalist screen's driver (experiments/generalist/screen.py): which runs a distilled
+pipeline trains after its teachers, and the wall-time budget its stages share (no training)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+
+@pytest.fixture
+def screen(load_script):
+    return load_script("experiments/generalist/screen.py")
+
+
+def keep_by_hand(kept, name, successes: dict[str, float], seconds: float, iterations=400):
+    """A kept run: `successes` per group logged over its last iterations, one launch."""
+    folder = kept / name
+    folder.mkdir(parents=True)
+    rows = ["iteration,tag,value"]
+    for it in range(iterations - 30, iterations):
+        rows += [f"{it},/success/{group},{value}" for group, value in successes.items()]
+    (folder / "metrics.csv").write_text("\n".join(rows) + "\n")
+    (folder / f"model_{iterations - 1}.pt").write_bytes(b"")
+    (folder / "wall.json").write_text(json.dumps({"launches_seconds": [seconds]}))
+
+
+class Recorder:
+    """Stands in for the queue's training: records what each stage would run."""
+
+    def __init__(self):
+        self.runs = []
+
+    def __call__(self, runs, dry_run, park):
+        self.runs += runs
+        return 0
+
+
+def test_a_group_its_kinds_teacher_missed_gets_its_own_teacher_on_the_next_seed(screen, tmp_path):
+    driver = screen.Screen(tmp_path / "work", tmp_path / "kept", None)
+    kinds = {"drawer": 0.9, "door": 0.9, "flap": 0.9}
+    for kind, value in kinds.items():
+        groups = {f"{c}_{kind}": value for c in ("knob", "two_point", "finger_pull")}
+        if kind == "door":
+            groups["finger_pull_door"] = 0.3
+        keep_by_hand(tmp_path / "kept", f"distilled_s20/teacher_{kind}", groups, 600.0)
+    driver.run = Recorder()
+    driver.distilled(20, dry_run=False, park=False)
+    retrain = driver.run.runs[-1]  # and nothing after it until it is kept
+    assert retrain.name == "distilled_s20/teacher_finger_pull_door"
+    assert {"env.seed=21", "asset=finger_pull", "asset.kind=door"} <= set(retrain.overrides)
+    keep_by_hand(tmp_path / "kept", retrain.name, {"finger_pull_door": 0.7}, 300.0)
+    driver.distilled(20, dry_run=False, park=False)
+    student = driver.run.runs[-1]
+    assert student.name == "distilled_s20/student"
+    assert f"finger_pull_door: {tmp_path}/kept/{retrain.name}/model_399.pt" in student.overrides[1]
+    assert driver.spent("distilled_s20") == 2100.0
+
+
+def test_the_student_is_routed_to_each_groups_teacher(screen, tmp_path):
+    driver = screen.Screen(tmp_path / "work", tmp_path / "kept", None)
+    for kind in ("drawer", "door", "flap"):
+        groups = {f"{c}_{kind}": 0.8 for c in ("knob", "two_point", "finger_pull")}
+        keep_by_hand(tmp_path / "kept", f"distilled_s20/teacher_{kind}", groups, 600.0)
+    driver.run = Recorder()
+    driver.distilled(20, dry_run=False, park=False)
+    (student,) = [r for r in driver.run.runs if r.name.endswith("student")]
+    teachers = next(o for o in student.overrides if o.startswith("distill.teachers="))
+    door = tmp_path / "kept/distilled_s20/teacher_door/model_399.pt"
+    assert f"knob_door: {door}" in teachers and teachers.count("teacher_flap") == 3
+
+
+def test_a_pipeline_whose_budget_is_spent_trains_nothing_more(screen, tmp_path, capsys):
+    driver = screen.Screen(tmp_path / "work", tmp_path / "kept", None)
+    keep_by_hand(tmp_path / "kept", "distilled_s20/teacher_drawer", {}, screen.BUDGET_SECONDS)
+    driver.run = Recorder()
+    driver.distilled(20, dry_run=False, park=False)
+    assert driver.run.runs == []
+    assert "distilled_s20: its 2 h are spent" in capsys.readouterr().out
