@@ -9,7 +9,8 @@ interval. The grids: the appendix-reward generalists (coacd/, hull/ and their va
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
 latter also on its own hull geometry, hull_high/s<seed>_own/); default_doors2/s<seed>/ and
 default/s<seed>_2500/ against the default per seed on the door kind, default_follow/s<seed>/ on
-all cells pooled (the comparisons named before those runs).
+all cells pooled (the comparisons named before those runs); the door specialists
+(doors/s<seed>/) on the door cells.
 """
 
 from __future__ import annotations
@@ -60,6 +61,10 @@ GRIDS = {  # folder -> what was trained
     **{
         f"default/s{seed}_2500": f"the default recipe, seed {seed}, continued to 2,500 iterations"
         for seed in (0, 2)
+    },
+    **{
+        f"doors/s{seed}": f"a door specialist (`asset.kind=door`), seed {seed}, 600 iterations"
+        for seed in (0, 1, 2, 3)
     },
 }
 COMPARISONS = (  # (grid a, grid b, title, the two columns' names)
