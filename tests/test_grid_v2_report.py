@@ -41,6 +41,7 @@ def make_run(root, collision, resistance, category, seed, success, hook=0.0, lea
     mode = {"episodes": 50, "success": success, "success_strategies": shares}
     report = {"checkpoint": "model_39.pt", "modes": dict.fromkeys(MODES, mode)}
     (run / "eval.json").write_text(json.dumps(report))
+    (run / "wall.json").write_text(json.dumps({"launches_seconds": [1800.0, 600.0]}))
     return run
 
 
@@ -67,6 +68,8 @@ def test_registered_comparisons_by_hand(report, tmp_path):
     assert len(rows) == 11 and sum(r["learned_at"] == "" for r in rows) == 1
     text = (tmp_path / "report.md").read_text()
     assert "11 of 66 planned runs kept; 10 learned." in text
+    assert "Compute: 7.3 h of wall time over the launches of 11 kept runs" in text
+    assert rows[0]["wall_minutes"] == "40.0"
     assert "| two_point | high | hull | 6 / 5 | 5 |" in text and "not computable yet" in text
     # the phase map has not run: comparison 4 has 11 kept policies without a value
     assert "| 0 / 0 (11 kept, not yet evaluated) | not computable yet |" in text

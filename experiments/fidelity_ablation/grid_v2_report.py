@@ -84,12 +84,30 @@ def load_runs() -> list[dict]:
         if (run["dir"] / OWN_FILE).is_file():
             run["evals"][OWN] = json.loads((run["dir"] / OWN_FILE).read_text())
         run["learned_at"] = iterations_to_success(run, LEARNED)
+        run["wall_minutes"] = wall_minutes(run["dir"])
         run["phase"] = {
             force: cell["success"]
             for (label, _, _, force, mu), cell in cells.items()
             if label == run["name"] and mu == PHASE_FRICTION
         }
     return runs
+
+
+def wall_minutes(run_dir) -> float | None:
+    """The wall time of a kept run's launches (training and its evaluation), in minutes."""
+    path = run_dir / "wall.json"
+    if not path.is_file():
+        return None
+    return sum(json.loads(path.read_text())["launches_seconds"]) / 60
+
+
+def compute_line(runs: list[dict]) -> str:
+    timed = [r["wall_minutes"] for r in runs if r["wall_minutes"] is not None]
+    return (
+        f"Compute: {sum(timed) / 60:.1f} h of wall time over the launches of {len(timed)} kept "
+        "runs (training and the evaluation after it; two runs at a time on 2 cores, one env "
+        "worker each), evaluations by `grid_v2_eval.py` not counted."
+    )
 
 
 def compare(comparison: Comparison, runs: list[dict]) -> dict:
@@ -128,6 +146,7 @@ def family(runs: list[dict]) -> list[dict]:
 def runs_csv(runs: list[dict]) -> str:
     """One row a run: cell, learned iteration, success per geometry and mode, shares in high."""
     fields = ["name", "collision", "resistance", "category", "seed", "iterations", "learned_at"]
+    fields += ["wall_minutes"]
     fields += [f"success_{g}_{m}" for g in ("coacd", OWN) for m in MODES]
     fields += [f"share_{label}_high" for label in SHARES] + ["phase_success"]
     out = io.StringIO()
@@ -135,6 +154,7 @@ def runs_csv(runs: list[dict]) -> str:
     writer.writeheader()
     for run in runs:
         row = {f: run.get(f) for f in fields[:6]} | {"learned_at": run["learned_at"]}
+        row["wall_minutes"] = None if run["wall_minutes"] is None else f"{run['wall_minutes']:.1f}"
         for geometry, report in run["evals"].items():
             if geometry == "coacd" or run["collision"] == geometry:
                 row |= {f"success_{geometry}_{m}": report["modes"][m]["success"] for m in MODES}
@@ -216,6 +236,8 @@ def main() -> int:
         "(a policy with none counts 0).",
         "",
         f"{len(runs)} of {len(planned())} planned runs kept; {len(learned)} learned.",
+        "",
+        compute_line(runs),
         "",
         *cell_lines(runs),
         "",
