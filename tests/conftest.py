@@ -74,6 +74,18 @@ def sample_library(tmp_path_factory, sample_configs, settings, cache_root):
     return out, build_sample(sample_configs, settings, cache_root, out)
 
 
+# the smallest training run: one bar on one drawer, fixed pose, two envs stepped in-process,
+# 1.5 s episodes
+SMALL_RUN = [
+    "asset=two_point",
+    "asset.part=tp_round_bar_128",
+    "asset.base=drawer_w60_h20",
+    "dr=fixed",
+    "env.num_envs=2",
+    "env.num_workers=0",
+    "task.episode_seconds=1.5",
+]
+
 # what the export, release and verify tests export: a bar on a drawer (a gap behind it), a cup
 # pull on the flap (a channel behind its lip) and a knob on a door (no gap)
 EXPORT_SAMPLE = {

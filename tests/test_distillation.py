@@ -11,6 +11,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import torch
+from conftest import SMALL_RUN
 from rsl_rl.models import MLPModel
 from tensordict import TensorDict
 
@@ -24,17 +25,7 @@ from realikea.tasks.open_task import ACTION_SIZE
 from realikea.training.distillation import RoutedTeacher, teacher_checkpoints
 from realikea.training.train import check_inputs, init_actor
 
-SMALL = [
-    "asset=two_point",
-    "asset.part=tp_round_bar_128",
-    "asset.base=drawer_w60_h20",
-    "dr=fixed",
-    "env.num_envs=2",
-    "env.num_workers=0",
-    "task.episode_seconds=1.5",
-    "agent.actor_hidden_dims=[8]",
-    "agent.critic_hidden_dims=[8]",
-]
+SMALL = [*SMALL_RUN, "agent.actor_hidden_dims=[8]", "agent.critic_hidden_dims=[8]"]
 DOORS = ["knob_door", "two_point_door", "finger_pull_door"]
 
 

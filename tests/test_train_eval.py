@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from conftest import SMALL_RUN
 
 from realikea.cli import main
 from realikea.config import load_config
@@ -31,15 +32,7 @@ from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 from realikea.training.train import runner_config, train
 
-SMALL = [
-    "asset=two_point",
-    "asset.part=tp_round_bar_128",
-    "asset.base=drawer_w60_h20",
-    "dr=fixed",
-    "env.num_envs=2",
-    "env.num_workers=0",
-    "task.episode_seconds=1.5",
-]
+SMALL = SMALL_RUN
 
 
 @pytest.fixture(scope="module")
