@@ -1,7 +1,10 @@
 """The start-state curriculum (realikea/tasks/start_state.py): which episodes start at the
-pre-grasp pose, where the hand then is, and bad settings refused before any work."""
+pre-grasp pose, where the hand then is, bad settings refused before any work, and such episodes
+kept out of the training logs' success and out of evaluations."""
 
 from __future__ import annotations
+
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -9,6 +12,8 @@ import pytest
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.setup import effective_config
+from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.open_task import OpenTask
 from realikea.tasks.start_state import PregraspStart
 from realikea.training.train import check_inputs
@@ -65,3 +70,41 @@ def test_a_bad_setting_is_refused_by_name_before_any_work(extra, message):
         PregraspStart.from_config(cfg.task)
     with pytest.raises(RealIkeaError, match=message):
         check_inputs(cfg)
+
+
+def test_an_episode_begun_at_the_pregrasp_pose_says_so_and_others_do_not(door):
+    task, _, _ = start(door, "+task.pregrasp_share=1.0")
+    info = run_out(task)
+    assert info["pregrasp"] is True and "pregrasp" in OpenTask.episode_keys
+    assert "pregrasp" not in run_out(start(door)[0])
+
+
+def run_out(task: OpenTask) -> dict:
+    """The final info of an episode of zero actions."""
+    while True:
+        result = task.step(np.zeros(task.action_size))
+        if result.terminated or result.truncated:
+            return result.info
+
+
+def test_training_logs_count_only_home_starts_and_show_pregrasp_starts_apart():
+    pool = SimpleNamespace(num_envs=2, num_actions=5, obs_size=4, horizon=10, iteration=0)
+    pool.counters = {}
+    env = RslRlVecEnv(pool, load_config(), 8)
+    episode = {"termination": "timeout", "opening": 0.0, "category": "knob", "kind": "door"}
+    log = env._log(
+        [
+            {**episode, "outcome": "fail", "stage": 1},
+            {**episode, "outcome": "success", "stage": 4, "pregrasp": True},
+        ]
+    )
+    assert log["/success/knob_door"].tolist() == [0.0]
+    assert log["/episode/success"].tolist() == [0.0]
+    assert log["/pregrasp_success/knob_door"].tolist() == [1.0]
+
+
+def test_an_evaluation_does_not_inherit_the_runs_curriculum():
+    run_cfg = load_config(["+task.pregrasp_share=0.5", "+task.pregrasp_groups=[knob_door]"])
+    cfg = effective_config(load_config([], "eval"), run_cfg, [])
+    assert "pregrasp_share" not in cfg.task and "pregrasp_groups" not in cfg.task
+    assert cfg.task.reward == run_cfg.task.reward  # the rest of the run's task is kept

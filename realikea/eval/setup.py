@@ -15,6 +15,7 @@ from realikea.eval.protocol import EvalResult, run_episodes
 from realikea.policies.registry import make_policy
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.open_task import OpenTask
+from realikea.tasks.start_state import CURRICULUM_KEYS
 
 # groups a checkpoint brings from its own run unless the command line overrides them
 RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
@@ -32,11 +33,14 @@ def trained_cell(run: Path) -> list[str]:
 
 
 def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:
-    """The eval config with the run's robot, gripper, contact and task unless overridden."""
+    """The eval config with the run's robot, gripper, contact and task unless overridden; not
+    the run's start-state curriculum (every evaluated episode starts at home)."""
     merged = OmegaConf.to_container(cfg, resolve=True)
     for group in RUN_GROUPS:
         if group in run_cfg and not overrides_set(overrides, group):
             merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
+    for key in CURRICULUM_KEYS:
+        merged["task"].pop(key, None)
     return OmegaConf.create(merged)
 
 

@@ -134,7 +134,9 @@ class RslRlVecEnv(VecEnv):
         (`/termination/<name>`), success and the mean end stage per category and kind
         (`/success/<category>_<kind>`, `/group_stage/<category>_<kind>`, over the iteration's
         episodes of that group: a group stuck before the pull shows as a low stage); and the
-        pool's counters."""
+        pool's counters. Outcomes and group values count the episodes that started at home, the
+        task as evaluated; those a start-state curriculum began at the pre-grasp pose show as
+        `/pregrasp_success/<category>_<kind>`."""
         log: dict[str, float | torch.Tensor] = {}
         if episodes:
             names = [e["termination"] for e in episodes]
@@ -146,7 +148,15 @@ class RslRlVecEnv(VecEnv):
         stages = [int(e["stage"]) for e in episodes if "stage" in e]
         for stage in range(1, STAGES + 1) if stages else ():
             log[f"/end_stage/{stage}"] = torch.tensor([float(x == stage) for x in stages])
-        finished = [e for e in episodes if "outcome" in e]
+        pregrasp: dict[str, list[float]] = {}
+        for e in episodes:
+            if e.get("pregrasp"):
+                group = group_name(e["category"], e["kind"])
+                pregrasp.setdefault(f"/pregrasp_success/{group}", []).append(
+                    float(e["outcome"] == "success")
+                )
+        log.update({name: torch.tensor(values) for name, values in sorted(pregrasp.items())})
+        finished = [e for e in episodes if "outcome" in e and not e.get("pregrasp")]
         if finished:
             labels = [e["outcome"] for e in finished]
             for name in OUTCOMES:

@@ -79,6 +79,7 @@ class EpisodeState:
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
     stagnant: int = 0
+    at_pregrasp: bool = False  # started at the pre-grasp pose (the start-state curriculum)
     term_sums: dict[str, float] = field(default_factory=dict)  # reward term -> episode sum
     contacts: ContactLog = field(default_factory=ContactLog)
     failure: FailureLog = field(default_factory=FailureLog)
@@ -101,6 +102,7 @@ class OpenTask:
     # what an episode's record in the env pool keeps of the final info
     episode_keys = (
         "outcome", "termination", "opening", "stage", "reward_terms", "category", "kind",
+        "pregrasp",
         *SUMMARY_KEYS,
         *FAILURE_KEYS,
     )  # fmt: skip
@@ -332,6 +334,7 @@ class OpenTask:
         except RealIkeaError:
             return
         reset_home(self.model, self.data, self.cfg, posture)
+        self.state.at_pregrasp = True
 
     def apply_action(self, action) -> bool:
         """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""
@@ -431,6 +434,8 @@ class OpenTask:
             info["termination"] = ended or TIMEOUT
             info["reward_terms"] = dict(s.term_sums)
             info["category"], info["kind"] = self.part.category, self.base.kind
+            if s.at_pregrasp:
+                info["pregrasp"] = True
             if self.contact_monitor is not None:
                 period = self.classifier.sample_substeps * self.model.opt.timestep
                 info.update(s.contacts.summary(self.part.category, self.classifier, period))

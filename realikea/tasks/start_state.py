@@ -21,6 +21,10 @@ from omegaconf import DictConfig
 from realikea.assets.catalog import GROUPS
 from realikea.errors import RealIkeaError
 
+# the curriculum's keys in `task`: a training device, which an evaluation of the run's
+# checkpoint must not inherit with the rest of its task (realikea/eval/setup.py)
+CURRICULUM_KEYS = ("pregrasp_share", "pregrasp_groups")
+
 
 @dataclass(frozen=True)
 class PregraspStart:

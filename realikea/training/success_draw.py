@@ -67,9 +67,10 @@ class SuccessFollowingDraw:
         return built_models(self.cfg, self.draw.configurations)
 
     def record(self, episodes: list[dict]) -> None:
-        """Count the success of the episodes that carry an outcome."""
+        """Count the success of the episodes that carry an outcome and started at home (not at
+        a start-state curriculum's pre-grasp pose)."""
         for e in episodes:
-            if "outcome" in e:
+            if "outcome" in e and not e.get("pregrasp"):
                 label = tuple(e[k] for k in self.draw.keys)
                 counts = self._window.setdefault(label, [0, 0])
                 counts[0] += e["outcome"] == "success"
