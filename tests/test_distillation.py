@@ -96,6 +96,11 @@ def test_a_bad_teacher_is_refused_naming_it_before_any_work(tmp_path, teachers, 
     assert message in str(err.value)
 
 
+def test_teachers_not_given_as_a_mapping_are_refused():
+    with pytest.raises(RealIkeaError, match=r"teachers='model.pt': use \{group: checkpoint"):
+        check_inputs(load_config([*SMALL, "distill.teachers=model.pt"]))
+
+
 def test_a_success_following_draw_is_refused(tmp_path):
     good = save_teacher(tmp_path / "good.pt")
     cfg = config(

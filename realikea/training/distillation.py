@@ -49,7 +49,13 @@ def teacher_checkpoints(cfg: DictConfig, draw_groups: list[str]) -> dict[str, Pa
             "distill.teachers: a distilled run keeps each env in its group; drop "
             "asset.follow_success"
         )
-    teachers = {str(k): str(v) for k, v in OmegaConf.to_container(cfg.distill.teachers).items()}
+    given = cfg.distill.teachers
+    if not isinstance(given, DictConfig):
+        raise RealIkeaError(
+            f"distill.teachers={given!r}: use {{group: checkpoint, ...}}, e.g. "
+            "'distill.teachers={knob_door: RUN/model_399.pt}'"
+        )
+    teachers = {str(k): str(v) for k, v in OmegaConf.to_container(given).items()}
     unknown = sorted(set(teachers) - set(GROUPS))
     if unknown:
         raise RealIkeaError(
