@@ -1,0 +1,59 @@
+"""Can a policy open a finger-pull door on the sealed hull at all? A specialist with the
+start-state curriculum, trained on the design card's geometry and resistance (hull, high), then
+evaluated on the held-out finger-pull doors on its own hull (registered in README.md, "The
+design card's command: can a hull finger-pull door be opened?").
+
+    python experiments/generalist/hull_fp_door.py            # resumable: training, then cells
+    python experiments/generalist/hull_fp_door.py --dry-run
+
+Trains in outputs/generalist_hull_fp_door/NAME (the run queue: realikea/training/queue.py),
+kept in results/hull_fp_door/NAME, evaluated into results/hull_fp_door/NAME/cells.jsonl (hull,
+high, 50 randomized episodes on draw 1000; `evaluate_grid`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from realikea.eval.sweep import checkpoints
+from realikea.files import WORKSPACE
+from realikea.reports.generalist import evaluate_grid
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
+
+HERE = Path(__file__).resolve().parent
+KEPT = HERE / "results/hull_fp_door"
+WORK = WORKSPACE / "outputs/generalist_hull_fp_door"
+ITERATIONS, SWITCH, SHARE, SEED = 600, 300, 0.5, 220
+CELL = ("collision=hull", "resistance=high", "asset=finger_pull", "asset.kind=door")
+RUN = QueuedRun(
+    "specialist_pregrasp_s220",
+    ("logger=none", *CELL, f"+task.pregrasp_share={SHARE}", f"env.seed={SEED}",
+     f"agent.max_iterations={ITERATIONS}", f"dr.switch_iteration={SWITCH}"),
+    ITERATIONS,
+)  # fmt: skip
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--dry-run", action="store_true", help="print the run and stop")
+    args = parser.parse_args(argv)
+    queue = RunQueue(
+        WORK,
+        lambda run: f"model_{run.iterations - 1}.pt",
+        lambda run, seconds: keep_run(WORK / run.name, KEPT / run.name, seconds),
+        lambda run: (KEPT / run.name / "wall.json").is_file(),
+    )
+    status = queue.serve([RUN], 1, dry_run=args.dry_run)
+    if status or args.dry_run or not queue.kept(RUN):
+        return status
+    evaluate_grid(
+        checkpoints(KEPT / RUN.name)[-1][1], KEPT / RUN.name / "cells.jsonl",
+        kinds=("door",), categories=("finger_pull",), modes=("high",), extra=["collision=hull"],
+    )  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
