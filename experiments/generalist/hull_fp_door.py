@@ -5,6 +5,7 @@ design card's command: can a hull finger-pull door be opened?").
 
     python experiments/generalist/hull_fp_door.py            # resumable: training, then cells
     python experiments/generalist/hull_fp_door.py --dry-run
+    python experiments/generalist/hull_fp_door.py --park      # a stopped run's state into git
 
 Trains in outputs/generalist_hull_fp_door/NAME (the run queue: realikea/training/queue.py),
 kept in results/hull_fp_door/NAME, evaluated into results/hull_fp_door/NAME/cells.jsonl (hull,
@@ -24,6 +25,7 @@ from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 HERE = Path(__file__).resolve().parent
 KEPT = HERE / "results/hull_fp_door"
+PARKED = HERE / "results/hull_fp_door_parked"
 WORK = WORKSPACE / "outputs/generalist_hull_fp_door"
 ITERATIONS, SWITCH, SHARE, SEED = 600, 300, 0.5, 220
 CELL = ("collision=hull", "resistance=high", "asset=finger_pull", "asset.kind=door")
@@ -38,15 +40,17 @@ RUN = QueuedRun(
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--dry-run", action="store_true", help="print the run and stop")
+    parser.add_argument("--park", action="store_true", help="copy a stopped run into git")
     args = parser.parse_args(argv)
     queue = RunQueue(
         WORK,
         lambda run: f"model_{run.iterations - 1}.pt",
         lambda run, seconds: keep_run(WORK / run.name, KEPT / run.name, seconds),
         lambda run: (KEPT / run.name / "wall.json").is_file(),
+        parked=PARKED,
     )
-    status = queue.serve([RUN], 1, dry_run=args.dry_run)
-    if status or args.dry_run or not queue.kept(RUN):
+    status = queue.serve([RUN], 1, dry_run=args.dry_run, park=args.park)
+    if status or args.dry_run or args.park or not queue.kept(RUN):
         return status
     evaluate_grid(
         checkpoints(KEPT / RUN.name)[-1][1], KEPT / RUN.name / "cells.jsonl",
