@@ -4,8 +4,6 @@ like a PPO actor."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from types import SimpleNamespace
 
 import numpy as np
@@ -18,12 +16,11 @@ from tensordict import TensorDict
 from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy, checkpoint_infos
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
 from realikea.training.distillation import RoutedTeacher, teacher_checkpoints
-from realikea.training.train import check_inputs, init_actor
+from realikea.training.train import check_inputs, init_actor, train
 
 SMALL = [*SMALL_RUN, "agent.actor_hidden_dims=[8]", "agent.critic_hidden_dims=[8]"]
 DOORS = ["knob_door", "two_point_door", "finger_pull_door"]
@@ -149,22 +146,21 @@ def test_init_actor_with_resume_is_refused(tmp_path):
 
 def test_a_distilled_run_evaluates_and_starts_a_ppo_run(tmp_path, capsys):
     """Four iterations distilling a constant teacher, then its checkpoint through `realikea
-    eval` and as the start of a PPO run."""
+    eval` and as the start of a PPO run (both trainings in this process)."""
     teacher = save_teacher(tmp_path / "teacher.pt", bias=0.5)
     library = tmp_path / "library"
     common = [*SMALL, "logger=none", "agent.num_steps_per_env=8", f"paths.library={library}"]
-    distilled = tmp_path / "distilled"
-    args = [
-        *common,
-        "agent.max_iterations=4",
-        f"distill.teachers={{two_point_drawer: {teacher}}}",
-        "distill.learning_rate=0.01",  # 5 gradient steps an iteration
-        f"hydra.run.dir={distilled}",
-    ]
-    out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
+    distilled, tuned = tmp_path / "distilled", tmp_path / "tuned"  # Hydra's run folders
+    distilled.mkdir(), tuned.mkdir()
+    cfg = load_config(
+        [
+            *common,
+            "agent.max_iterations=4",
+            f"distill.teachers={{two_point_drawer: {teacher}}}",
+            "distill.learning_rate=0.01",  # 5 gradient steps an iteration
+        ]
     )
-    assert out.returncode == 0, out.stderr[-3000:]
+    assert train(cfg, distilled) == distilled / "model_3.pt"
     losses = [
         float(line.split(",")[2])
         for line in (distilled / "metrics.csv").read_text().splitlines()
@@ -176,16 +172,8 @@ def test_a_distilled_run_evaluates_and_starts_a_ppo_run(tmp_path, capsys):
     evaluation = [f"policy.path={distilled / 'model_3.pt'}", *SMALL, f"paths.library={library}"]
     assert main(["eval", *evaluation, "episodes=1"]) == 0
     capsys.readouterr()
-    tuned = tmp_path / "tuned"
-    args = [
-        *common,
-        "agent.max_iterations=1",
-        f"train.init_actor={distilled / 'model_3.pt'}",
-        f"hydra.run.dir={tuned}",
-    ]
-    out = subprocess.run(
-        [sys.executable, "train.py", *args], cwd=WORKSPACE, capture_output=True, text=True
+    cfg = load_config(
+        [*common, "agent.max_iterations=1", f"train.init_actor={distilled / 'model_3.pt'}"]
     )
-    assert out.returncode == 0, out.stderr[-3000:]
-    saved = torch.load(tuned / "model_0.pt", weights_only=False)
+    saved = torch.load(train(cfg, tuned), weights_only=False)
     assert {"actor_state_dict", "critic_state_dict"} <= set(saved)
