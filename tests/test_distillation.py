@@ -19,7 +19,7 @@ from realikea.errors import RealIkeaError
 from realikea.policies.checkpoint import CheckpointPolicy, checkpoint_infos
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
-from realikea.training.distillation import RoutedTeacher, teacher_checkpoints
+from realikea.training.distillation import RoutedTeacher, check_teachers, teacher_paths
 from realikea.training.train import check_inputs, init_actor, train
 
 SMALL = [*SMALL_RUN, "agent.actor_hidden_dims=[8]", "agent.critic_hidden_dims=[8]"]
@@ -64,7 +64,8 @@ def config(tmp_path, teachers: dict, *extra):
 def test_the_teachers_of_the_draws_groups_are_taken(tmp_path):
     good = save_teacher(tmp_path / "t.pt")
     cfg = config(tmp_path, {"two_point_drawer": good, "knob_door": good})
-    assert teacher_checkpoints(cfg, ["two_point_drawer"]) == {
+    check_teachers(cfg, ["two_point_drawer"])
+    assert teacher_paths(cfg) == {
         "two_point_drawer": good,
         "knob_door": good,
     }

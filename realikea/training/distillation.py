@@ -40,36 +40,39 @@ def distilling(cfg: DictConfig) -> bool:
     return bool((cfg.get("distill") or {}).get("teachers"))
 
 
-def teacher_checkpoints(cfg: DictConfig, draw_groups: list[str]) -> dict[str, Path]:
-    """`distill.teachers` as {group: checkpoint}, refused (naming the input) when a group is
-    unknown, a group of the run's draw has no teacher, a checkpoint is missing or unreadable, or
-    a teacher observes or acts on another layout than the student."""
-    if cfg.asset.get("follow_success") is not None:
-        raise RealIkeaError(
-            "distill.teachers: a distilled run keeps each env in its group; drop "
-            "asset.follow_success"
-        )
+def teacher_paths(cfg: DictConfig) -> dict[str, Path]:
+    """`distill.teachers` as {group: checkpoint path}, as given (no file read)."""
     given = cfg.distill.teachers
     if not isinstance(given, DictConfig):
         raise RealIkeaError(
             f"distill.teachers={given!r}: use {{group: checkpoint, ...}}, e.g. "
             "'distill.teachers={knob_door: RUN/model_399.pt}'"
         )
-    teachers = {str(k): str(v) for k, v in OmegaConf.to_container(given).items()}
-    unknown = sorted(set(teachers) - set(GROUPS))
+    return {str(k): repo_path(str(v)) for k, v in OmegaConf.to_container(given).items()}
+
+
+def check_teachers(cfg: DictConfig, draw_groups: list[str]) -> None:
+    """Refuse `distill.teachers` (naming the input) when a group is unknown, a group of the
+    run's draw has no teacher, a checkpoint is missing or unreadable, or a teacher observes or
+    acts on another layout than the student."""
+    if cfg.asset.get("follow_success") is not None:
+        raise RealIkeaError(
+            "distill.teachers: a distilled run keeps each env in its group; drop "
+            "asset.follow_success"
+        )
+    paths = teacher_paths(cfg)
+    unknown = sorted(set(paths) - set(GROUPS))
     if unknown:
         raise RealIkeaError(
             f"distill.teachers: unknown group {', '.join(unknown)}; use {', '.join(GROUPS)}"
         )
-    missing = sorted(set(draw_groups) - set(teachers))
+    missing = sorted(set(draw_groups) - set(paths))
     if missing:
         raise RealIkeaError(
             f"distill.teachers: no teacher for {', '.join(missing)}, which this run's draw holds"
         )
-    paths = {group: repo_path(path) for group, path in teachers.items()}
     for group, path in paths.items():
         check_teacher(group, path)
-    return paths
 
 
 def check_teacher(group: str, path: Path) -> None:

@@ -19,7 +19,12 @@ from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.rewards import reward_from_config, variant_name
 from realikea.tasks.start_state import PregraspStart
-from realikea.training.distillation import distillation_config, distilling, teacher_checkpoints
+from realikea.training.distillation import (
+    check_teachers,
+    distillation_config,
+    distilling,
+    teacher_paths,
+)
 from realikea.training.success_draw import SuccessFollowingDraw
 
 GROUP_PPO = "realikea.training.group_ppo:GroupPPO"
@@ -170,7 +175,7 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
     else:
         draw = training_draw(cfg, n, seed)
     if distilling(cfg):
-        teacher_checkpoints(cfg, env_groups(draw))
+        check_teachers(cfg, env_groups(draw))
     return draw
 
 
@@ -180,13 +185,11 @@ def env_groups(draw: SuccessFollowingDraw | TrainingDraw) -> list[str]:
     return [] if isinstance(draw, SuccessFollowingDraw) else [c.group for c in draw.configurations]
 
 
-def train_config(cfg: DictConfig, draw: SuccessFollowingDraw | TrainingDraw) -> dict:
+def train_config(cfg: DictConfig) -> dict:
     """rsl-rl's train_cfg: PPO's (`runner_config`), or the distillation's when the run distils
-    teachers (`distill.teachers`)."""
+    teachers (`distill.teachers`, checked by `check_inputs`)."""
     ppo = runner_config(cfg)
-    if not distilling(cfg):
-        return ppo
-    return distillation_config(cfg, ppo, teacher_checkpoints(cfg, env_groups(draw)))
+    return distillation_config(cfg, ppo, teacher_paths(cfg)) if distilling(cfg) else ppo
 
 
 def train(cfg: DictConfig, run_dir: Path) -> Path:
@@ -209,7 +212,7 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         )
         runner = Runner(
             env,
-            train_config(cfg, draw),
+            train_config(cfg),
             log_dir=str(run_dir),
             device=cfg.train.device,
             infos=checkpoint_infos(cfg),
