@@ -1,8 +1,8 @@
 """The package's layers point one way: no import cycles, and no module importing a layer above it.
 
-Every `import` and `from ... import` of a project module counts, at module level or inside a
-function (a function-level import is still an edge when it runs); imports under `if
-TYPE_CHECKING:` do not (they never run).
+Every `import` and `from ... import` of a project module counts: at module level, inside a
+function (an edge when it runs), and under `if TYPE_CHECKING:` (an edge for every reader and type
+checker, even if it never runs).
 """
 
 from __future__ import annotations
@@ -35,35 +35,24 @@ def module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def _type_checking_only(tree: ast.Module) -> set[int]:
-    """ids of the import nodes under `if TYPE_CHECKING:`."""
-    skipped = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-            skipped |= {id(n) for stmt in node.body for n in ast.walk(stmt)}
-    return skipped
+def imported(source: str) -> set[str]:
+    """Every module name an `import` or absolute `from ... import` in `source` may refer to."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names |= {f"{node.module}.{a.name}" for a in node.names} | {node.module}
+        elif isinstance(node, ast.Import):
+            names |= {a.name for a in node.names}
+    return names
 
 
 def import_graph() -> dict[str, set[str]]:
     """module -> the project modules it imports (a package import counts as its __init__)."""
     paths = {module_name(p): p for p in PACKAGE.rglob("*.py")}
-    graph: dict[str, set[str]] = {}
-    for name, path in paths.items():
-        tree = ast.parse(path.read_text())
-        skipped = _type_checking_only(tree)
-        edges = set()
-        for node in ast.walk(tree):
-            if id(node) in skipped:
-                continue
-            if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                targets = [f"{node.module}.{a.name}" for a in node.names] + [node.module]
-            elif isinstance(node, ast.Import):
-                targets = [a.name for a in node.names]
-            else:
-                continue
-            edges |= {t for t in targets if t in paths and t != name}
-        graph[name] = edges
-    return graph
+    return {
+        name: {t for t in imported(path.read_text()) if t in paths and t != name}
+        for name, path in paths.items()
+    }
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -105,6 +94,15 @@ def layer(module: str) -> str:
 def test_the_cycle_finder_finds_a_cycle():
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_imports_under_type_checking_and_in_functions_count():
+    source = (
+        "from typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n    from realikea.assets.catalog import Part\n"
+        "def f():\n    import realikea.sim.scene\n"
+    )
+    assert {"realikea.assets.catalog", "realikea.sim.scene"} <= imported(source)
 
 
 def test_no_import_cycles():

@@ -18,14 +18,24 @@ import io
 import random
 from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from realikea.config import overrides_set
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
 
-if TYPE_CHECKING:
-    from realikea.assets.catalog import Part
+
+class Part(Protocol):
+    """What the split reads of a catalog part (`realikea.assets.catalog.Part` is one; read-only,
+    as that frozen dataclass's fields are)."""
+
+    @property
+    def id(self) -> str: ...
+    @property
+    def family(self) -> str: ...
+    @property
+    def dims(self) -> dict[str, float]: ...
+
 
 SPLIT_FILE = "split.csv"
 SPLITS = ("train", "test", "all")
