@@ -18,7 +18,6 @@ order as through mink and qpsolvers, so the solution is the same to the last bit
 from __future__ import annotations
 
 import math
-import os
 from ctypes import c_int
 from dataclasses import dataclass
 
@@ -30,13 +29,6 @@ from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
 from realikea.sim.robot import ARM_JOINTS, TCP_SITE, GripperModel, joint_limits, robot_xml
-
-try:  # mink's compiled Lie-group ops, which its FrameTask uses when they are there
-    if os.environ.get("MINK_DISABLE_NATIVE", ""):
-        raise ImportError
-    from mink.lie import _lie_ops_c as _lie
-except ImportError:
-    _lie = None
 
 # Franka's joint velocity limits (rad/s).
 VELOCITY_LIMIT = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
@@ -262,10 +254,6 @@ class _ArmQP:
         self.blower = np.full(4 * nv, -1e30)
         self.sense = np.zeros(4 * nv, dtype=c_int)
         self.damping_eye = (damping + 0.0) * np.eye(nv)  # mink adds damping + sum of task mu
-        self.site = configuration._resolve_frame_id(frame.frame_name, frame.frame_type)
-        if frame.frame_type != "site":
-            raise AssertionError("_ArmQP's frame task tracks a site")
-        self.jacobian = np.empty((6, nv))
 
     def step(self, q: np.ndarray) -> np.ndarray | None:
         """The configuration one QP step from q (within the joint limits), None if daqp fails."""
@@ -274,18 +262,7 @@ class _ArmQP:
         mujoco.mj_kinematics(model, data)  # what mink.Configuration.update runs (no equalities)
         mujoco.mj_comPos(model, data)
         W, e, h = self.W, self.e, self.h
-        if _lie is None:
-            W[:6], e[:6], _ = self.frame.compute_qp_residual(self.configuration)
-        else:  # FrameTask.compute_qp_residual's native path, without its Python overhead
-            site, jacobian, frame = self.site, self.jacobian, self.frame
-            xmat = data.site_xmat[site]
-            pose = _lie.xmat_xpos_to_wxyz_xyz(xmat, data.site_xpos[site])
-            mujoco.mj_jacSite(model, data, jacobian[:3], jacobian[3:], site)
-            body_jacobian = _lie.se3_rotation_adjoint_from_xmat(xmat) @ jacobian
-            target = frame.transform_target_to_world.wxyz_xyz
-            # unit costs, gain 1 and no LM damping (checked in __init__) weight nothing
-            np.negative(_lie.se3_rminus(target, pose), out=e[:6])
-            W[:6] = -_lie.se3_jlog(_lie.se3_inverse_multiply(target, pose)) @ body_jacobian
+        W[:6], e[:6], _ = self.frame.compute_qp_residual(self.configuration)
         e[6:] = self.posture_scale * (q - self.home)
         H = W.T @ W
         H += self.damping_eye  # the LM damping on the diagonal (the tasks add no mu)
