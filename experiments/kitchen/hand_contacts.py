@@ -17,7 +17,8 @@ from collections import Counter
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY
 from realikea.sim.scene import FRONT_BODY, subtree_geoms
-from realikea.tasks.open_task import OpenTask, StepResult
+from realikea.tasks.contract import StepResult
+from realikea.tasks.open_task import OpenTask
 
 FORM_CLOSURE = ("hook", "lever")  # the labels the aim credits
 

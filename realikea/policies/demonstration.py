@@ -28,7 +28,8 @@ from omegaconf import DictConfig, OmegaConf
 
 from realikea.errors import RealIkeaError
 from realikea.tasks import observations
-from realikea.tasks.open_task import ACTION_SIZE, OpenTask, StepResult
+from realikea.tasks.contract import StepResult
+from realikea.tasks.open_task import ACTION_SIZE, OpenTask
 
 FORMAT = "realikea-demonstration"
 VERSION = 1

@@ -7,9 +7,9 @@ import importlib
 from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
+from realikea.policies.contract import Policy
 
-# name -> "module:class"; every class has `from_config(cfg)`, `reset(env_ids, facts)` and
-# `act(obs) -> actions`
+# name -> "module:class" of a `Policy` (realikea/policies/contract.py)
 POLICIES = {
     "checkpoint": "realikea.policies.checkpoint:CheckpointPolicy",
     "heuristic_pull": "realikea.policies.heuristic_pull:HeuristicPull",
@@ -20,7 +20,7 @@ POLICIES = {
 }
 
 
-def make_policy(cfg: DictConfig):
+def make_policy(cfg: DictConfig) -> Policy:
     """The policy named by `cfg.policy.name`."""
     name = cfg.policy.name
     if name not in POLICIES:

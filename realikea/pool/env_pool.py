@@ -6,8 +6,8 @@ the task's Python (mink IK, reward, observation), so threading only the physics 
 slice of the envs and runs whole control steps (`realikea/pool/processes.py`). Actions,
 observations, rewards and flags live in one shared-memory block (`realikea/pool/shared.py`).
 
-The pool is task-agnostic: env i is `task_factory(cfg, configurations[i], seed + i)` (the
-contract is `realikea/pool/env_slice.py: EnvSlice`); `from_config` uses the opening task. It owns
+The pool is task-agnostic: env i is `task_factory(cfg, configurations[i], seed + i)` (a `Task`,
+`realikea/tasks/contract.py`); `from_config` uses the opening task. It owns
 the episode bookkeeping: steps and return of what the learner saw of every episode, however it
 ended.
 

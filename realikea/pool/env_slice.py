@@ -11,20 +11,18 @@ import mujoco
 import numpy as np
 
 from realikea.pool.shared import COUNTERS
+from realikea.tasks.contract import TaskFactory
 
 _C = {name: k for k, name in enumerate(COUNTERS)}
 
 
 class EnvSlice:
-    """Tasks `task_factory(cfg, path, seed)` for the global env ids `env_ids`.
+    """Tasks `task_factory(cfg, path, seed)` (`Task`s, realikea/tasks/contract.py) for the
+    global env ids `env_ids`."""
 
-    A task has `reset() -> obs`, `apply_action(a) -> ok`, `simulate()`, `evaluate(ok)` (a result
-    with obs, reward, terminated, truncated and an info dict whose `diverged` flags a blown-up
-    state), `facts()`, `horizon` and `iteration`, and the class attributes `observation_size`
-    and `action_size`.
-    """
-
-    def __init__(self, task_factory, cfg, paths, seeds, env_ids, arrays, worker, iteration):
+    def __init__(
+        self, task_factory: TaskFactory, cfg, paths, seeds, env_ids, arrays, worker, iteration
+    ):
         self.factory, self.cfg = task_factory, cfg
         self.ids = [int(i) for i in env_ids]
         self.tasks = [task_factory(cfg, Path(p), int(s)) for p, s in zip(paths, seeds, strict=True)]

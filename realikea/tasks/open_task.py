@@ -42,6 +42,7 @@ from realikea.tasks.contacts import (
     ContactMonitor,
     sample_forces,
 )
+from realikea.tasks.contract import StepResult
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonitor, FailureParams
 from realikea.tasks.grip import NO_GRIP, GripSensor
@@ -85,17 +86,9 @@ class EpisodeState:
     failure: FailureLog = field(default_factory=FailureLog)
 
 
-@dataclass(frozen=True)
-class StepResult:
-    obs: np.ndarray
-    reward: float
-    terminated: bool
-    truncated: bool
-    info: dict
-
-
 class OpenTask:
-    """The robot opening one configuration's front (drawer, door or flap)."""
+    """The robot opening one configuration's front (drawer, door or flap): a `Task`
+    (`realikea/tasks/contract.py`)."""
 
     observation_size = observations.SIZE
     action_size = ACTION_SIZE

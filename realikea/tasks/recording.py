@@ -17,7 +17,8 @@ from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
 from realikea.tasks.contacts import SAMPLE_FORCES
-from realikea.tasks.open_task import OpenTask, StepResult
+from realikea.tasks.contract import StepResult
+from realikea.tasks.open_task import OpenTask
 
 
 @dataclass(frozen=True)
