@@ -11,6 +11,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.fidelity import commands, heatmap, measure, report
 from realikea.files import atomic_path
+from realikea.sources import SOURCES
 
 # one part of each category, cheap to decompose (and usually in the project's cache already)
 PARTS = ("knob_round_20", "tp_round_bar_64", "fp_edge_64")
@@ -67,7 +68,7 @@ def test_parts_csv_rows_and_columns(small_report):
         assert int(row["hull_pieces"]) == 1
         assert int(row["coacd_pieces"]) >= 1
         assert int(row["visual_faces"]) > 0 and int(row["visual_vertices"]) > 0
-        for src in measure.SOURCES:
+        for src in SOURCES:
             for d in measure.DIRECTIONS:
                 mean, median, p90, mx = (float(row[f"{src}_{d}_{s}_m"]) for s in measure.STATS)
                 assert 0.0 <= median <= p90 <= mx and 0.0 <= mean <= mx

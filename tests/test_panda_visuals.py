@@ -27,7 +27,8 @@ from realikea.sim.robot import (
     GripperModel,
     robot_xml,
 )
-from realikea.sim.scene import build_scene, config_mjcf, subtree_geoms
+from realikea.sim.scene import build_scene, subtree_geoms
+from realikea.sources import built_model
 
 CONFIG = ("knob_round_30", "drawer_w60_h20")  # a knob on a drawer: the hand reaches and pulls
 ROBOT_BODIES = (*(f"link{i}" for i in range(8)), HAND_BODY, *FINGER_BODIES)
@@ -184,7 +185,7 @@ def library(tmp_path_factory) -> Path:
 
 def test_task_state_is_bit_identical_without_meshes(library, monkeypatch):
     """200 control steps of the same actions (reach the knob, close, pull) in the kitchen."""
-    mjcf = config_mjcf(library, "__".join(CONFIG), "coacd")
+    mjcf = built_model(library, "__".join(CONFIG), "coacd")
     cfg = load_config(["resistance=high", "dr=randomized"])
     assert_same_dynamics_model(build_scene(mjcf, cfg), build_scene(mjcf, cfg, visuals=False))
     states = {}

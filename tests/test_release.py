@@ -15,7 +15,7 @@ import yaml
 
 from realikea.cli import main
 from realikea.errors import RealIkeaError
-from realikea.export import FORMATS, SOURCES, release
+from realikea.export import FORMATS, release
 from realikea.export.driver import export_folder
 from realikea.export.release import (
     CARD,
@@ -24,6 +24,7 @@ from realikea.export.release import (
     release_library,
 )
 from realikea.files import repo_path
+from realikea.sources import SOURCES
 
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 TITLE = "Real-IKEA: Physical Fidelity is the Prerequisite for Robust Manipulation"

@@ -45,9 +45,9 @@ from realikea.sim.scene import (
     TCP_SITE,
     build_scene,
     closed_front,
-    config_mjcf,
     reset_home,
 )
+from realikea.sources import built_model
 
 PART = "tp_round_bar_128"
 BASES = ("drawer_w60_h20", "door_right_w60_h80", "flap_w60_h40")
@@ -249,7 +249,7 @@ def test_scene_builds_with_resistance_contact_and_layout(library, base, source):
     cfg = load_config(
         ["resistance=high", "contact=pyramidal", "gripper=menagerie_servo", "scene=freestanding"]
     )
-    mjcf = config_mjcf(library, f"{PART}__{base}", source)
+    mjcf = built_model(library, f"{PART}__{base}", source)
     model = build_scene(mjcf, cfg)
     dof = model.jnt_dofadr[model.joint(FRONT_JOINT).id]
     front = closed_front(mjcf)  # hinges: the drawer's values scaled to the handle's lever arm
@@ -304,7 +304,7 @@ def scripted_pinch_pull(mjcf, overrides, pull=0.3) -> tuple[float, float]:
 
 
 def test_franka_hand_pinch_opens_a_stiff_drawer_where_the_menagerie_servo_slips(library):
-    mjcf = config_mjcf(library, f"{PART}__drawer_w60_h20", "coacd")
+    mjcf = built_model(library, f"{PART}__drawer_w60_h20", "coacd")
     opened, slip = scripted_pinch_pull(mjcf, ["resistance=high"])
     print(f"franka_hand/elliptic/high: opened {opened:.3f} m, slip {slip * 1000:.2f} mm")
     assert opened > 0.28 and abs(slip) < 0.002
@@ -317,7 +317,7 @@ def test_scene_rejects_a_missing_mjcf(tmp_path):
     with pytest.raises(RealIkeaError, match="not found"):
         build_scene(tmp_path / "missing.xml", load_config())
     with pytest.raises(RealIkeaError, match="build it first"):
-        config_mjcf(tmp_path, "nothing", "coacd")
+        built_model(tmp_path, "nothing", "coacd")
 
 
 # --- IK ------------------------------------------------------------------------------------
@@ -331,7 +331,7 @@ def test_pitch_round_trips():
 @pytest.mark.parametrize("base", BASES)
 def test_ik_reaches_a_target_near_each_handle(library, base):
     cfg = load_config()
-    model = build_scene(config_mjcf(library, f"{PART}__{base}", "coacd"), cfg)
+    model = build_scene(built_model(library, f"{PART}__{base}", "coacd"), cfg)
     data = mujoco.MjData(model)
     reset_home(model, data, cfg)
     ik = IKController.from_config(cfg, base_pos=model.body("link0").pos)

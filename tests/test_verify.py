@@ -11,10 +11,11 @@ import pytest
 from pxr import Usd
 
 from realikea.cli import main
-from realikea.export import FORMATS, SOURCES, release
+from realikea.export import FORMATS, release
 from realikea.export.driver import export_configurations, export_folder
 from realikea.export.release import MANIFEST, VERIFICATION, release_library
 from realikea.export.verify import verify_folder, verify_release
+from realikea.sources import SOURCES
 
 FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 

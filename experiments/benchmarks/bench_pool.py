@@ -56,6 +56,7 @@ from realikea.config import load_config  # noqa: E402
 from realikea.files import atomic_write_text  # noqa: E402
 from realikea.pool.env_pool import EnvPool, available_cores  # noqa: E402
 from realikea.pool.gym_env import OpenTaskEnv  # noqa: E402
+from realikea.sources import SOURCES, model_name  # noqa: E402
 from realikea.tasks import observations  # noqa: E402
 from realikea.tasks.open_task import OpenTask  # noqa: E402
 
@@ -476,9 +477,9 @@ def main() -> None:
 
     n = args.source_envs
     sources = {}
-    for source in ("coacd", "hull"):
+    for source in SOURCES:
         scfg = load_config([*OVERRIDES, f"collision={source}"])
-        spaths = [p.with_name(f"model_{source}.xml") for p in paths[:n]]
+        spaths = [p.with_name(model_name(source)) for p in paths[:n]]
         srec = record(scfg, spaths, args.steps)
         ngeom = float(np.mean([t.model.ngeom for t in srec.tasks]))
         sources[source] = SourceCost(physics_per_step(srec, w), srec.mean_contacts, ngeom)

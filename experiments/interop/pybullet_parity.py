@@ -41,13 +41,13 @@ from realikea.interop.pybullet_sim import PYBULLET_BODY_DAMPING
 from realikea.interop.sample import (
     MULTIPLES,
     SAMPLE_MODES,
-    SOURCES,
     UNIT,
     Prepared,
     prepare,
     sample_arguments,
     sample_context,
 )
+from realikea.sources import SOURCES
 
 DEFAULT_OUT = repo_path("experiments/interop/results/pybullet.md")
 PROBE_BASE = "drawer_w60_h20"  # every two-point part is probed on this base

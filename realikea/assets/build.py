@@ -29,6 +29,7 @@ from realikea.config import config_number
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text, staging_dir
 from realikea.sim.resistance import nominal
+from realikea.sources import model_name
 from realikea.spawn import process_pool
 
 PART_STEPS_VERSION = "2"  # bump when steps 1-4 change what they write
@@ -198,8 +199,8 @@ def write_configuration(
                 config.part, config.base, names, "meshes/visual.obj", handle,
                 resistance.damping, resistance.frictionloss, settings.front_clearance,
             )  # fmt: skip
-            integration.write_mjcf(unit, tmp / f"model_{source}.xml")  # step 6
-            row[f"mjcf_{source}"] = f"{config.id}/model_{source}.xml"
+            integration.write_mjcf(unit, tmp / model_name(source))  # step 6
+            row[f"mjcf_{source}"] = f"{config.id}/{model_name(source)}"
         (tmp / "build.json").write_text(json.dumps({"key": key, "row": row}, indent=1))
     return True
 

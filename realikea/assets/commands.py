@@ -22,6 +22,7 @@ from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 from realikea.sim.resistance import NOMINAL
+from realikea.sources import SOURCES
 
 OVERRIDES_HELP = "Hydra overrides, e.g. asset=knob workflow.coacd.threshold=0.03 paths.library=DIR"
 
@@ -35,7 +36,7 @@ def register(parser: argparse.ArgumentParser) -> argparse._SubParsersAction:
     which.add_argument("--all", action="store_true", help="all part x base configurations")
     which.add_argument("--part", help="one part id (all bases unless --base is given)")
     build.add_argument("--base", help="one base id")
-    build.add_argument("--collision", choices=("coacd", "hull", "both"), default="both")
+    build.add_argument("--collision", choices=(*SOURCES, "both"), default="both")
     build.add_argument("--out", type=Path, help="library folder (default: paths.library)")
     build.add_argument("--workers", type=int, help="processes (default: all cores)")
     build.add_argument("overrides", nargs="*", help=OVERRIDES_HELP)
@@ -105,7 +106,7 @@ def run_build(args: argparse.Namespace) -> int:
     )
     cfg = load_config(args.overrides)
     configs = selected_configurations(args, cfg, Catalog.load())
-    sources = ("coacd", "hull") if args.collision == "both" else (args.collision,)
+    sources = SOURCES if args.collision == "both" else (args.collision,)
     out = args.out or repo_path(cfg.paths.library)
     start = time.perf_counter()
     report = build_library(

@@ -14,6 +14,7 @@ from tqdm import tqdm
 from realikea.assets.build import WorkflowSettings, build_library, ensure_part
 from realikea.assets.catalog import Catalog, Configuration
 from realikea.files import atomic_path, repo_path
+from realikea.sources import SOURCES, model_path
 
 TILE = 200
 COLUMNS = 10
@@ -89,13 +90,13 @@ def render_gallery(cfg: DictConfig, out: Path, n_configs: int = 12) -> Path:
     cache, library = repo_path(cfg.paths.cache), repo_path(cfg.paths.library)
     sample = sample_configurations(catalog, n_configs)
     per_part = [next(catalog.configurations(part=p)) for p in catalog.parts]
-    build_library(sample + per_part, settings, ("coacd", "hull"), cache, library)
+    build_library(sample + per_part, settings, SOURCES, cache, library)
     tiles = []
     for config in tqdm(per_part, desc="render parts"):
         _, meshes, _ = ensure_part(config.part, settings, cache)
         tiles.append(_label(part_tile(meshes.visual), config.part.id))
     for config in tqdm(sample, desc="render configurations"):
-        mjcf = library / config.id / "model_coacd.xml"
+        mjcf = model_path(library, config.id, "coacd")
         tiles.append(_label(configuration_tile(mjcf), config.id))
     rows = -(-len(tiles) // COLUMNS)
     sheet = Image.new("RGB", (COLUMNS * TILE, rows * TILE), "white")

@@ -13,6 +13,7 @@ from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, Configuration
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
+from realikea.sources import SOURCES, model_path
 
 FRONT_JOINT = "front_joint"
 
@@ -126,11 +127,11 @@ def built_models(cfg, configurations: list[Configuration]) -> list[Path]:
     build_library(  # a no-op for configurations that are already current
         list({c.id: c for c in configurations}.values()),
         WorkflowSettings.from_config(cfg),
-        ("coacd", "hull"),
+        SOURCES,
         repo_path(cfg.paths.cache),
         library,
     )
-    return [library / c.id / f"model_{source}.xml" for c in configurations]
+    return [model_path(library, c.id, source) for c in configurations]
 
 
 def training_configurations(cfg, n: int, seed: int = 0) -> list[Path]:

@@ -12,9 +12,10 @@ from realikea.assets.catalog import Catalog
 from realikea.assets.commands import OVERRIDES_HELP, refuse_resistance, selected_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.export import FORMATS, SOURCES
+from realikea.export import FORMATS
 from realikea.files import repo_path
 from realikea.sim.resistance import MODES, NOMINAL, mode
+from realikea.sources import SOURCES
 
 RESISTANCE_HELP = (
     f"the joint resistance the models carry (default: {NOMINAL}); recorded in each "

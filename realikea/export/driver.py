@@ -20,12 +20,13 @@ from tqdm import tqdm
 
 from realikea.assets.catalog import Configuration, content_hash
 from realikea.errors import RealIkeaError
-from realikea.export import SOURCES, mjcf, urdf, usd
+from realikea.export import mjcf, urdf, usd
 from realikea.export.metadata import PART_LINK, configuration_metadata
 from realikea.export.model import Articulation, read_articulation, with_resistance
 from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, report_rows
 from realikea.files import repo_path, shown_path, staging_dir
 from realikea.sim.resistance import Resistance, modes, nominal
+from realikea.sources import check_source, model_name, model_path
 
 EXPORT_VERSION = "1"  # bump when an exporter or metadata.json changes what it writes
 LISTED = 5  # configurations named in an error before "and n more"
@@ -67,7 +68,7 @@ def _not_built(configs: Sequence[Configuration], library: Path, source: str) -> 
         c.id
         for c in configs
         if not (library / c.id / "build.json").is_file()
-        or not (library / c.id / f"model_{source}.xml").is_file()
+        or not model_path(library, c.id, source).is_file()
     ]
 
 
@@ -78,8 +79,7 @@ def check_request(
     no configuration, or configurations not built (naming them and how to build them)."""
     if fmt not in EXPORTERS:
         raise RealIkeaError(f"unknown export format {fmt!r}; choose one of {', '.join(EXPORTERS)}")
-    if source not in SOURCES:
-        raise RealIkeaError(f"unknown collision source {source!r}; choose {' or '.join(SOURCES)}")
+    check_source(source)
     if Path(out).exists() and not Path(out).is_dir():
         raise RealIkeaError(f"--out {out} is an existing file; give a folder")
     if not configs:
@@ -153,7 +153,7 @@ def export_configurations(
         folder = export_folder(out, fmt, source, config.id)
         if is_current(folder, key):
             continue
-        articulation = with_resistance(read_articulation(built / f"model_{source}.xml"), resistance)
+        articulation = with_resistance(read_articulation(built / model_name(source)), resistance)
         part = articulation.link(PART_LINK)
         visual = next(s.mesh for s in part.shapes if s.visual and s.mesh is not None)
         pieces = [s.mesh for s in part.shapes if s.collides]
@@ -163,7 +163,7 @@ def export_configurations(
             certificates[digest] = fidelity_certificate(
                 visual, pieces, source, row, shown_path(fidelity_csv)
             )
-        name = f"model_{source}{exporter.suffix}"
+        name = model_name(source, exporter.suffix)
         with staging_dir(folder) as tmp:
             exporter.write(articulation, tmp, name)
             export = {

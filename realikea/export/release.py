@@ -23,7 +23,7 @@ from tqdm import tqdm
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog, Configuration
 from realikea.errors import RealIkeaError
-from realikea.export import FORMATS, SOURCES
+from realikea.export import FORMATS
 from realikea.export.driver import (
     EXPORT_VERSION,
     LISTED,
@@ -33,6 +33,7 @@ from realikea.export.driver import (
 )
 from realikea.files import CATALOG_DIR, atomic_path, atomic_write_text, repo_path
 from realikea.sim.resistance import MODES, Resistance
+from realikea.sources import SOURCES
 
 CARD = "DATASET.md"  # the dataset card, at the repository root and in every release
 MANIFEST = "manifest.json"

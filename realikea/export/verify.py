@@ -30,12 +30,13 @@ from pxr import Usd, UsdPhysics
 from tqdm import tqdm
 
 from realikea.errors import RealIkeaError
-from realikea.export import FORMATS, SOURCES
+from realikea.export import FORMATS
 from realikea.export.metadata import PART_LINK
 from realikea.export.model import JOINT_TYPES
 from realikea.export.release import MANIFEST, VERIFICATION, sha256_file
 from realikea.files import atomic_write_text
 from realikea.provenance import package_versions
+from realikea.sources import SOURCES
 
 VERIFICATION_VERSION = "1"  # bump when verification.json's layout changes
 TOOLS = ("mujoco", "pybullet", "usd-core")  # the packages whose versions a verification records

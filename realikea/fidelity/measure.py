@@ -14,8 +14,8 @@ from realikea.fidelity.meshes import load_pair
 from realikea.fidelity.metric import (
     surface_deviation,
 )
+from realikea.sources import SOURCES
 
-SOURCES = ("coacd", "hull")
 STATS = ("mean", "median", "p90", "max")
 DIRECTIONS = ("q_to_p", "p_to_q")
 MM = 1000.0

@@ -21,6 +21,8 @@ from matplotlib.colors import PowerNorm
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from realikea.sources import SOURCES
+
 MM = 1000.0
 SOURCE_COLORS = {"coacd": "#1f77b4", "hull": "#d62728"}
 SOURCE_LABELS = {"coacd": "CoACD", "hull": "convex hull"}
@@ -45,15 +47,13 @@ def distribution_figure(rows: Sequence[dict]) -> Figure:
     stats = (("mean", "mean = E(Q→P)"), ("median", "median"), ("p90", "P90"))
     fig = Figure(figsize=(4.6 * len(categories) + 0.6, 4.8), layout="constrained")
     axes = fig.subplots(1, len(categories), sharey=True, squeeze=False)[0]
-    all_values = [
-        r[f"{s}_q_to_p_{k}_m"] * MM for r in rows for s in ("coacd", "hull") for k, _ in stats
-    ]
+    all_values = [r[f"{s}_q_to_p_{k}_m"] * MM for r in rows for s in SOURCES for k, _ in stats]
     top = max(max(all_values, default=1.0), FLOOR_MM * 10) * 2.0
     for ax, category in zip(axes, categories, strict=True):
         group = [r for r in rows if r["category"] == category]
         clipped = 0
         for i, (stat, _) in enumerate(stats):
-            for j, source in enumerate(("coacd", "hull")):
+            for j, source in enumerate(SOURCES):
                 values = np.array([r[f"{source}_q_to_p_{stat}_m"] for r in group]) * MM
                 clipped += int(np.sum(values < FLOOR_MM))
                 values = np.maximum(values, FLOOR_MM)

@@ -37,12 +37,13 @@ from realikea.assets.catalog import Catalog, Part
 from realikea.errors import RealIkeaError
 from realikea.fidelity import plots
 from realikea.fidelity.heatmap import HEAT_EDGES, HEAT_TRIANGLES, HeatRow, heat_row, heatmap_parts
-from realikea.fidelity.measure import SOURCES, PartJob, measure_part
+from realikea.fidelity.measure import PartJob, measure_part
 from realikea.fidelity.metric import (
     DEFAULT_SAMPLES,
 )
 from realikea.fidelity.summary import csv_text, headline_sentence, summary_markdown
 from realikea.files import atomic_path, atomic_write_text, repo_path
+from realikea.sources import SOURCES
 from realikea.spawn import process_map
 
 DEFAULT_OUT = "experiments/fidelity/results"

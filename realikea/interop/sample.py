@@ -17,6 +17,7 @@ from realikea.export.model import read_articulation
 from realikea.files import repo_path
 from realikea.interop.pull import breakaway_force
 from realikea.sim.resistance import mode as resistance_mode
+from realikea.sources import SOURCES, model_name
 
 SAMPLE = (  # (part, base): two per kind, each category twice
     ("tp_round_bar_128", "drawer_w60_h20"),
@@ -28,7 +29,6 @@ SAMPLE = (  # (part, base): two per kind, each category twice
 )
 SAMPLE_MODES = ("high", "smooth")
 MULTIPLES = (0.5, 1.2, 2.0)  # x the breakaway force; 1.2x is mid-travel after 1 s
-SOURCES = ("coacd", "hull")
 UNIT = {"slide": "m", "hinge": "rad"}  # of a front's opening
 
 
@@ -71,12 +71,12 @@ def prepare(configs, mode, sources, work: Path, settings, cache_root) -> dict[tu
             )
         for c in configs:
             folder = export_folder(exports, "urdf", source, c.id)
-            mjcf = export_folder(exports, "mjcf", source, c.id) / f"model_{source}.xml"
+            mjcf = export_folder(exports, "mjcf", source, c.id) / model_name(source)
             prepared[(c.id, source)] = Prepared(
                 c,
                 mode,
                 mjcf,
-                folder / f"model_{source}.urdf",
+                folder / model_name(source, ".urdf"),
                 json.loads((folder / "metadata.json").read_text()),
                 read_articulation(mjcf).handle.tolist(),
             )

@@ -62,7 +62,6 @@ __all__ = [
     "PAD_GEOMS",
     "TCP_SITE",
     "build_scene",
-    "config_mjcf",
     "reset_home",
 ]
 
@@ -72,14 +71,6 @@ _INTEGRATORS = {
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
     "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
 }
-
-
-def config_mjcf(library: Path, config_id: str, source: str) -> Path:
-    """The MJCF of one built configuration for a collision source (`coacd` or `hull`)."""
-    path = Path(library) / config_id / f"model_{source}.xml"
-    if not path.is_file():
-        raise RealIkeaError(f"no {source} MJCF for {config_id} in {library}; build it first")
-    return path
 
 
 def _look_at(pos, target) -> np.ndarray:

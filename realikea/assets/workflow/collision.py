@@ -8,8 +8,6 @@ import coacd
 import numpy as np
 import trimesh
 
-SOURCES = ("coacd", "hull")
-
 
 @dataclass(frozen=True)
 class CoacdSettings:

@@ -35,6 +35,7 @@ from realikea.reports.fidelity_ablation.tables import (
 from realikea.reports.fidelity_ablation.videos import frame_lines
 from realikea.reports.multiplicity import holm_lines
 from realikea.sim.resistance import MODES
+from realikea.sources import SOURCES
 
 # the report's CoACD − hull tables, (evaluation modes, None = every mode; measure): the family
 # Holm's correction counts; success comes first, in its own table before the failure modes
@@ -52,7 +53,7 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
         raise RealIkeaError(f"no finished runs (eval.json + .hydra/config.yaml) under {roots}")
     maps = phase_map_lines(phase_maps, out)  # checked before anything is written
     cells, by_cell = aggregate(runs)
-    variants = ordered({k[0] for k in cells}, ("coacd", "hull"))
+    variants = ordered({k[0] for k in cells}, SOURCES)
     resistances = ordered({k[1] for k in cells}, MODES)
     categories = ordered({k[2] for k in cells}, ("knob", "finger_pull", "two_point"))
     modes = ordered({m for c in cells.values() for m in c}, MODES)
