@@ -6,8 +6,8 @@ Stage 1 approaches a pre-grasp target t1 with the jaws open, stage 2 refines tow
 stage 3 closes the jaws, stage 4 rewards opening. Each stage adds the maximum of the ones
 before it (M1, M2, beta), so the reward never drops when a stage is reached.
 
-Its traps, measured on the fidelity grid (54 runs, iterations 880-899; the gated variant's
-docstring says how it removes each): closed empty jaws within tau2 of t2 reach stage 4, which
+Its traps (the `gated` variant removes each; the runs that fell into them:
+`experiments/reward_screen/README.md`): closed empty jaws within tau2 of t2 reach stage 4, which
 pays M1 + M2 + beta a step with nothing opened; the 2 -> 3 gate is a 2 cm ball around a point
 6 mm inside the handle's surface; and kappa log(100 q + 1) pays more for the first 2 cm than for
 10 -> 20 cm, with no bonus at success.

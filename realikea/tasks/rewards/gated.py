@@ -1,6 +1,7 @@
 """The `gated` reward variant (the default): the paper's four stages, but each step's stage is
 read from the scene as it is then, with grasp readiness from contact; constants in
-`realikea/conf/task/reward/gated.yaml`.
+`realikea/conf/task/reward/gated.yaml`. What showed each choice:
+`experiments/reward_screen/README.md` ("Why the gated reward is built this way").
 
 The paper credits opening "only after grasp readiness is achieved", with "only one stage
 contribution active under mutually exclusive gating". Here, every step:
@@ -8,57 +9,38 @@ contribution active under mutually exclusive gating". Here, every step:
 - stage 4 (engaged, `realikea/tasks/grip.py`): a pinch, with the handle site between the pads
   and both fingers touching the part, or form closure, a finger touching the part where its
   surface faces the front panel (behind a bar, under a lip, behind a knob's head). Closed empty
-  jaws at the handle are neither (the `appendix` variant's stage 4 with nothing opened: 13 of
-  the fidelity grid's 26 dead runs), while a pinch of a knob wider than the jaws can close to is
-  one (aperture < 0.4 is out of reach of a 32 mm knob in the 8 cm stroke);
+  jaws at the handle are neither, while a pinch of a knob wider than the jaws can close to is
+  one;
 - stage 3 (straddling): the handle site between the pads, within `straddle_radius` of the line
   joining them, as Isaac Lab's cabinet task gates on the fingers being on either side of the
-  handle; this replaces a 2 cm ball around a point 6 mm inside the handle's surface, reachable
-  or not depending on the collision geometry (4 dead runs ended at stage 2's level);
-  `w_center` (0 by default) adds a term for the handle site's nearness to that line, meant to
-  make the jaws close on the handle rather than beside it (at 5 it rescued neither of the two
-  screen runs that ended straddling: it lifts stage 3's best to stage 4's baseline;
-  `experiments/reward_screen/README.md`). `w_app3` (0 by default) pays stage 3 the approach
-  to the grasp target t2, at most `w_hold` so a grasp at the same place still pays more: in
-  the frames of a knob run that ended straddling, the knob sits at one finger's tip, inside
-  the straddle's radius but short of t2, and stage 3 pays nothing for advancing onto it;
+  handle, whatever the collision geometry makes of the handle's surface. `w_center` (0 by
+  default) adds a term for the handle site's nearness to that line, meant to make the jaws close
+  on the handle rather than beside it; `w_app3` (0 by default) pays stage 3 the approach to the
+  grasp target t2, at most `w_hold` so a grasp at the same place still pays more;
 - stage 2: within tau1 of the pre-grasp target t1, or within `refine_radius` of t2;
 - stage 1 otherwise. A lost grasp returns the stage to the approach.
 
 Every stage, `w_push` (0 by default) costs pressing the closed front shut, in proportion to the
-force its closed stop holds at the handle (`OpenTask.pressing_force`), capped at `push_force`:
-the policies of the screen's runs that did not learn press it with over 50 N on 0.60-0.97 of
-their steps (median 163-224 N), those that learned on at most 0.08
-(`experiments/reward_screen/results/pressing.md`). Measured on two such seeds, it stops the
-pressing but not the trap: they then hold the grasp without pulling.
+force its closed stop holds at the handle (`OpenTask.pressing_force`), capped at `push_force`;
+`w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1], where a mean far
+past the clip explores nothing on that component.
 
-`w_bound` (0 by default) costs the policy's action beyond its clip to [-1, 1]: a mean far past
-the clip explores nothing on that component. Measured, it does harm: costing the sampled action
-also costs its spread (action std 0.23-0.26 at iteration 120 against 0.45-0.77 without it,
-`experiments/reward_screen/results/exploration.md`); kept so the screen's runs with it reproduce.
-
-The opening's weights are the reward screen's `gated_pull_rate` recipe, the one under which 9 of
-10 runs learned in every screened cell, both collision sources (36 of 40;
-`experiments/reward_screen/README.md`); each of its three changes answers a trap measured there:
+The opening:
 
 - `keep_opening`: the opening, its increase and its bonus are paid in every stage once the
-  episode has been in stage 4: pulled hard, a pinch that slips on the way out keeps the opening
-  it made;
-- `w_progress` 120 and `success_bonus` 60 (three times the first screen's 40 and 20): a pull
-  that opens 5 cm and slips then pays more a step than holding the grasp still;
+  episode has been in stage 4, so a pinch that slips on the way out keeps the opening it made;
+- `w_progress` and `success_bonus` are large enough that a pull that opens 5 cm and slips pays
+  more a step than holding the grasp still;
 - `w_rate` (10 x `w_progress`) pays the capped opening's increase over the step, so over an
-  episode it sums to the opening made, and closing the front again costs what it paid: the
-  level pays a pull only through the steps after it, and the knob runs that did not learn held
-  grasps that open the drawer when made to pull, yet pulled slowly.
+  episode it sums to the opening made, and closing the front again costs what it paid (the level
+  alone pays a pull only through the steps after it).
 
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
-threshold on (20 cm or 45 deg): no resting place short of success (9 dead runs of the grid ended
-on partial openings under kappa log(100 q + 1), which pays more for the first 2 cm than for
-10 -> 20 cm). Every term is multiplied by `scale` so a step held at success pays about 2 and value
-targets stay O(1-200) at gamma = 0.99 (at the appendix's 15-78 a step the grid runs' median
-value loss was 460 to 250,000, where rsl-rl's clipping of value updates to +-0.2 does nothing).
+threshold on (20 cm or 45 deg): no resting place short of success. Every term is multiplied by
+`scale` so a step held at success pays about 2 and value targets stay O(1-200) at gamma = 0.99,
+within reach of rsl-rl's clipping of value updates to +-0.2.
 """
 
 from __future__ import annotations
