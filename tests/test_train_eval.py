@@ -16,18 +16,12 @@ from conftest import SMALL_RUN
 from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.eval.library_grid import cell_overrides, evaluate_grid, pooled, read_cells
 from realikea.eval.protocol import EvalResult
 from realikea.eval.setup import trained_cell
 from realikea.eval.stats import wilson
 from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
-from realikea.reports.generalist import (
-    cell_overrides,
-    evaluate_grid,
-    pooled,
-    read_cells,
-    success_table,
-)
 from realikea.tasks import observations
 from realikea.tasks.contacts import STRATEGIES
 from realikea.training.train import runner_config, train
@@ -298,7 +292,7 @@ def test_a_layout_with_an_unknown_term_is_refused_by_name():
         observations.selector([("tcp_pos", 3), ("gripper_width", 1)])
 
 
-def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp_path):
+def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp_path, load_script):
     run_dir, library = run
     results = tmp_path / "cells.jsonl"
     pin = ["asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20", f"paths.library={library}"]
@@ -310,7 +304,7 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert "asset.split=test" in record["command"] and "env.seed=1000" in record["command"]
     evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
     assert len(results.read_text().splitlines()) == 1
-    table = success_table(read_cells(results))
+    table = load_script("experiments/generalist/tables.py").success_table(read_cells(results))
     assert "| drawer | two_point |" in table and "[" in table
 
 
@@ -327,7 +321,7 @@ def test_a_grid_cell_puts_the_arm_where_the_checkpoint_was_trained(tmp_path):
     assert "scene.robot.placements=[]" not in cell_overrides(tmp_path / "sub" / "model.pt", *args)
 
 
-def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one():
+def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one(load_script):
     def record(mode, failures):
         return {"episodes": 50, "success": 0.2, "partial": 0.3, "mode": mode,
                 "strategies": {"pinch": 0.6, "hook": 0.1}, **failures}  # fmt: skip
@@ -335,7 +329,7 @@ def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one():
     slips = {"failure_modes": {"slip": 0.56, "narrow_clearance": 0.1}}
     cells = {("door", "knob", m): record(m, slips) for m in ("smooth", "normal", "high")}
     cells |= {("flap", "knob", m): record(m, {}) for m in ("smooth", "normal", "high")}
-    lines = success_table(cells).splitlines()
+    lines = load_script("experiments/generalist/tables.py").success_table(cells).splitlines()
     assert lines[0].endswith("| strategy (high) | failure mode (high) |")
     (door,) = [x for x in lines if x.startswith("| door | knob |")]
     (flap,) = [x for x in lines if x.startswith("| flap | knob |")]

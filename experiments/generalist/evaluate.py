@@ -16,7 +16,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from realikea.reports.generalist import KINDS, MODES, evaluate_grid
+from realikea.eval.library_grid import KINDS, evaluate_grid
+from realikea.sim.resistance import MODES
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"

@@ -15,8 +15,9 @@ from pathlib import Path
 
 from train_gated import RECIPES  # this folder's: the recipes it trains
 
+from realikea.assets.catalog import CATEGORIES
+from realikea.eval.library_grid import KINDS
 from realikea.files import atomic_write_text
-from realikea.reports.generalist import CATEGORIES, KINDS
 from realikea.reports.learning_curve import GROUP_WINDOW
 from realikea.training.metrics import read_metrics, running_mean
 

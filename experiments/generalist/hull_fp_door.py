@@ -18,9 +18,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from realikea.eval.library_grid import evaluate_grid
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
-from realikea.reports.generalist import evaluate_grid
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 HERE = Path(__file__).resolve().parent

@@ -17,17 +17,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from tables import difference_markdown, success_table
+
+from realikea.eval.library_grid import KINDS, pooled, read_cells
 from realikea.eval.stats import describe, diff_interval, significant
 from realikea.files import atomic_write_text
-from realikea.reports.generalist import (
-    KINDS,
-    MODES,
-    difference_markdown,
-    pooled,
-    read_cells,
-    success_table,
-)
 from realikea.reports.multiplicity import Difference, holm_lines
+from realikea.sim.resistance import MODES
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"

@@ -2,9 +2,8 @@
 
 `evaluate_grid` runs `realikea eval` (its own setup: the checkpoint's run groups, the strategy
 classifier) once per cell and appends the cell's JSON line to a results file as it goes, so an
-interrupted grid continues where it stopped. `success_table` turns a results file into the table
-with Wilson intervals, `difference_markdown` two of them (CoACD, hull) into the difference per cell
-with Newcombe's interval.
+interrupted grid continues where it stopped; `read_cells` reads such a file back, `cell_count`
+and `pooled` count its successes.
 """
 
 from __future__ import annotations
@@ -16,7 +15,7 @@ from pathlib import Path
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
 from realikea.eval.runs import run_scene
 from realikea.eval.setup import eval_setup, evaluate
-from realikea.eval.stats import count, diff_interval, significant, wilson
+from realikea.eval.stats import count
 from realikea.files import shown_path
 from realikea.sim.resistance import MODES
 from realikea.tasks.outcome import OUTCOMES
@@ -91,83 +90,13 @@ def evaluate_grid(
     return done
 
 
-def _count(record: dict) -> tuple[int, int]:
+def cell_count(record: dict) -> tuple[int, int]:
     """Successes and episodes of a cell (its success rate is k / n of its episodes)."""
     n = int(record["episodes"])
     return count(record["success"], n), n
 
 
-def _rate(record: dict | None) -> str:
-    if record is None:
-        return "–"
-    k, n = _count(record)
-    lo, hi = wilson(k, n)
-    return f"{k / n:.2f} [{lo:.2f}, {hi:.2f}]"
-
-
-def _top_label(record: dict | None, key: str) -> str:
-    """The most frequent label of `key` (strategies, failure_modes) and its share, or '–'."""
-    labels = (record or {}).get(key) or {}
-    if not labels or max(labels.values()) == 0.0:
-        return "–"
-    name = max(labels, key=labels.get)
-    return f"{name} {labels[name]:.2f}"
-
-
-def success_table(cells: dict) -> str:
-    """Success per kind x category under each mode (Wilson 95 %), the partial openings and the
-    most frequent strategy and failure mode in high ('–' for cells evaluated before the failure
-    modes existed, or with no failure)."""
-    lines = [
-        "| kind | category | " + " | ".join(f"{m} S [95 %]" for m in MODES)
-        + " | partial (high) | strategy (high) | failure mode (high) |",
-        "|---|---|" + "---|" * (len(MODES) + 3),
-    ]  # fmt: skip
-    for kind in KINDS:
-        for category in CATEGORIES:
-            row = [cells.get((kind, category, m)) for m in MODES]
-            if not any(row):
-                continue
-            high = row[-1]
-            partial = f"{high['partial']:.2f}" if high else "–"
-            lines.append(
-                f"| {kind} | {category} | " + " | ".join(_rate(r) for r in row)
-                + f" | {partial} | {_top_label(high, 'strategies')}"
-                + f" | {_top_label(high, 'failure_modes')} |"
-            )  # fmt: skip
-    return "\n".join(lines) + "\n"
-
-
-def difference_markdown(cells: dict, other: dict, names=("CoACD", "hull")) -> str:
-    """Both successes and their difference (Newcombe 95 %) per kind x category in each mode."""
-    a, b = names
-    lines = [
-        f"{a} − {b}, success difference per cell with Newcombe's 95 % interval:",
-        "",
-        "| kind | category | " + " | ".join(f"{m}: {a} / {b}, diff" for m in MODES) + " |",
-        "|---|---|" + "---|" * len(MODES),
-    ]
-    for kind in KINDS:
-        for category in CATEGORIES:
-            values = []
-            for mode in MODES:
-                x, y = cells.get((kind, category, mode)), other.get((kind, category, mode))
-                if x is None or y is None:
-                    values.append("–")
-                    continue
-                (k1, n1), (k2, n2) = _count(x), _count(y)
-                lo, hi = diff_interval(k1, n1, k2, n2)
-                mark = "" if significant(k1, n1, k2, n2) else " (n.s.)"
-                values.append(
-                    f"{k1 / n1:.2f} / {k2 / n2:.2f}, {k1 / n1 - k2 / n2:+.2f} "
-                    f"[{lo:+.2f}, {hi:+.2f}]{mark}"
-                )
-            if any(v != "–" for v in values):
-                lines.append(f"| {kind} | {category} | " + " | ".join(values) + " |")
-    return "\n".join(lines) + "\n"
-
-
 def pooled(cells: dict, mode: str, kind: str | None = None) -> tuple[int, int]:
     """Successes and episodes over every cell of one mode (of one base kind if given)."""
-    counts = [_count(r) for (k, _, m), r in cells.items() if m == mode and kind in (None, k)]
+    counts = [cell_count(r) for (k, _, m), r in cells.items() if m == mode and kind in (None, k)]
     return sum(k for k, _ in counts), sum(n for _, n in counts)
