@@ -1,8 +1,9 @@
 """Cross-preset report of Table 2: where the friction trap appears and why (experiments/table2).
 
 Reads every `<kind>/<gripper>_<contact>/table2.csv` written by `realikea eval table` (kinds:
-drawer, door) and the grip sweep's, and writes `results/report.md` (findings computed from the CSVs)
-and `results/success.png`.
+drawer, door) and the grip sweep's, and writes `results/report.md` (tables only),
+`results/figures.json` (every cell with its Wilson interval, the traps, the sweep: what the
+README quotes by key) and `results/success.png`.
 Usage: python experiments/table2/report.py
 """
 
@@ -10,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import json
 from pathlib import Path
 
 import matplotlib
@@ -18,6 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
+from realikea.files import atomic_write_text  # noqa: E402
 from realikea.sim.resistance import MODES  # noqa: E402
 from realikea.sim.resistance import mode as resistance_mode
 
@@ -26,6 +29,7 @@ CATEGORIES = ("knob", "finger_pull", "two_point")
 KINDS = ("drawer", "door")
 FRICTION_BASED = ("heuristic_pull", "grasp_sampler")
 TRAP_SMOOTH, TRAP_HIGH = 0.6, 0.1  # a trap: friction-based success >= 0.6 smooth, <= 0.1 high
+MU = 1.0  # pad friction of both gripper presets (realikea/conf/gripper/*.yaml: pad_friction)
 
 
 def load(pattern: str) -> dict[str, list[dict]]:
@@ -46,14 +50,8 @@ def load(pattern: str) -> dict[str, list[dict]]:
 
 
 def cell(rows, policy, category, mode) -> dict | None:
-    return next(
-        (
-            r
-            for r in rows
-            if r["policy"] == policy and r["category"] == category and r["resistance"] == mode
-        ),
-        None,
-    )
+    wanted = (policy, category, mode)
+    return next((r for r in rows if (r["policy"], r["category"], r["resistance"]) == wanted), None)
 
 
 def resistance_pull(name: str, speed: float = 0.1) -> float:
@@ -91,54 +89,71 @@ def plot(presets: dict[str, list[dict]], path: Path) -> None:
     plt.close(fig)
 
 
-def main() -> None:
-    presets = {}
-    for kind in KINDS:
-        presets.update(load(f"{kind}/*_*/table2.csv"))
-    first = next(iter(presets.values()))[0]
+def trapped(rows, policy: str) -> tuple[list[str], list[str]]:
+    """Success smooth -> normal -> high per category ('' if a mode is missing), and the
+    categories where `policy` falls into the trap."""
+    cells, trap = [], []
+    for category in CATEGORIES:
+        found = [cell(rows, policy, category, m) for m in MODES]
+        if not all(found):
+            cells.append("")
+            continue
+        s = [c["success"] for c in found]
+        cells.append(" -> ".join(f"{v:.2f}" for v in s))
+        if s[0] >= TRAP_SMOOTH and s[2] <= TRAP_HIGH:
+            trap.append(category)
+    return cells, trap
+
+
+def figures(presets: dict, sweep: dict) -> dict:
+    """Every cell (by `<kind>/<preset>/<policy>/<category>/<mode>`, the sweep's under
+    `grip_sweep/<preset>_<F>N/...`) with its rate and Wilson interval and its pinch statistics;
+    the traps; the front's resistance at 0.1 m/s per mode."""
+    cells = {}
+    for name, rows in {**presets, **sweep}.items():
+        for r in rows:
+            n = int(r["episodes"])
+            lo, hi = wilson(round(r["success"] * n), n)
+            key = f"{name}/{r['policy']}/{r['category']}/{r['resistance']}"
+            cells[key] = {
+                "episodes": n, "rate": [r["success"], lo, hi], "partial": r["partial"],
+                "fail": r["fail"], "hook": r["strategy_hook"], "lever": r["strategy_lever"],
+                "pinch": r["strategy_pinch"], "none": r["strategy_none"],
+                "friction_share": r["friction_share"], "grip": r["grip_force"],
+                "capacity": 2 * MU * r["grip_force"], "peak_pull": r["peak_pull"],
+                "slip_ratio": r["peak_slip_ratio"], "normal_angle": r["normal_angle_deg"],
+            }  # fmt: skip
+    traps = {
+        f"{name}/{policy}": trapped(rows, policy)[1]
+        for name, rows in presets.items()
+        for policy in FRICTION_BASED
+    }
+    pulls = {m: resistance_pull(m) for m in MODES}
+    return {"cells": cells, "traps": traps, "resistance_pull_n": pulls}
+
+
+def trap_section(presets: dict) -> list[str]:
     lines = [
-        "# Table 2 under every gripper x contact preset, on drawers and doors",
-        "",
-        "Command: `bash experiments/table2/run.sh` (runs `realikea eval table` per kind and "
-        "preset, then this report: `python experiments/table2/report.py`). "
-        f"Scene {first['scene']}, {first['split']} parts, {int(first['episodes'])} episodes a "
-        f"cell, pose randomization on, {first['collision']} collision; drawers as in the paper, "
-        "and doors. Per kind and preset, the tables (F/P/S in the paper's layout, strategy "
-        "labels and slip statistics per cell): "
-        + ", ".join(f"[{n}]({n}/table2.md)" for n in presets)
-        + ".",
-        "",
-        "![success](success.png)",
-        "",
         "## Does the friction trap appear?",
-        "",
-        f"Trap: a friction-based baseline succeeds in smooth (>= {TRAP_SMOOTH}) and collapses in "
-        f"high (<= {TRAP_HIGH}). Success smooth -> normal -> high (at 50 episodes a rate's "
-        "95 % interval spans up to +-14 points: `python -m realikea.eval.stats K/N`):",
         "",
         "| kind/preset | policy | knob | finger pull | two-point | trap on |",
         "|---|---|---|---|---|---|",
     ]
     for name, rows in presets.items():
         for policy in FRICTION_BASED:
-            cells, trapped = [], []
-            for category in CATEGORIES:
-                found = [cell(rows, policy, category, m) for m in MODES]
-                if not all(found):
-                    cells.append("")
-                    continue
-                s = [c["success"] for c in found]
-                cells.append(" -> ".join(f"{v:.2f}" for v in s))
-                if s[0] >= TRAP_SMOOTH and s[2] <= TRAP_HIGH:
-                    trapped.append(category)
+            cells, trap = trapped(rows, policy)
             if any(cells):
-                trap = ", ".join(trapped) or "none"
-                lines.append(f"| {name} | {policy} | " + " | ".join(cells) + f" | {trap} |")
-    lines += [
-        "",
+                lines.append(
+                    f"| {name} | {policy} | "
+                    + " | ".join(cells)
+                    + f" | {', '.join(trap) or 'none'} |"
+                )
+    return lines
+
+
+def form_closure_section(presets: dict) -> list[str]:
+    lines = [
         "## Form closure: hook_oracle in high resistance",
-        "",
-        "Success with its Wilson 95 % interval; hook and lever: fractions of all episodes.",
         "",
         "| kind/preset | category | success | partial | fail | hook | lever | friction share |",
         "|---|---|---:|---:|---:|---:|---:|---:|",
@@ -155,24 +170,17 @@ def main() -> None:
                     f"{c['fail']:.2f} | {c['strategy_hook']:.2f} | {c['strategy_lever']:.2f} | "
                     f"{c['friction_share']:.2f} |"
                 )
-    pulls = ", ".join(f"{m} {resistance_pull(m):.0f} N" for m in MODES)
-    lines += [
-        "",
+    return lines
+
+
+def slip_section(presets: dict) -> list[str]:
+    lines = [
         "## The slip condition, from the logged contact forces",
-        "",
-        "A pinch holds while the pull the front needs stays below the friction the jaws can "
-        "carry, about 2 mu F_grip (two pads) when the contact normals stand across the pull; "
-        "on curved parts the normals tilt towards the pull (normal angle below 90 deg) and the "
-        "jaws are pushed open instead. The front resists with its friction loss plus damping x "
-        f"speed: at 0.1 m/s {pulls}. Per cell, means over the episodes with a pulling phase: "
-        "grip = half the summed contact normal force, capacity = 2 mu grip, slip ratio = "
-        "friction pull / (mu x summed normal force) at the peak pull (1 = sliding).",
         "",
         "| kind/preset | policy | category | mode | S | grip (N) | capacity (N) | peak pull (N) | "
         "slip ratio | normal angle (deg) |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
     ]
-    mu = 1.0  # pad friction of both gripper presets (realikea/conf/gripper/*.yaml: pad_friction)
     for name, rows in presets.items():
         for policy in FRICTION_BASED:
             for category in ("knob", "finger_pull"):
@@ -181,37 +189,57 @@ def main() -> None:
                     if c and c["grip_force"] == c["grip_force"]:  # not NaN
                         lines.append(
                             f"| {name} | {policy} | {category} | {mode} | {c['success']:.2f} | "
-                            f"{c['grip_force']:.1f} | {2 * mu * c['grip_force']:.1f} | "
+                            f"{c['grip_force']:.1f} | {2 * MU * c['grip_force']:.1f} | "
                             f"{c['peak_pull']:.1f} | {c['peak_slip_ratio']:.2f} | "
                             f"{c['normal_angle_deg']:.0f} |"
                         )
+    return lines
+
+
+def sweep_section(sweep: dict) -> list[str]:
+    lines = [
+        "## Where the trap appears: the grip force",
+        "",
+        "| grip per jaw | knob | slip ratio (high) | finger pull | slip ratio (high) |",
+        "|---|---|---:|---|---:|",
+    ]
+    for name, rows in sweep.items():
+        cells = []
+        for category in ("knob", "finger_pull"):
+            found = [cell(rows, "heuristic_pull", category, m) for m in MODES]
+            cells.append(" -> ".join(f"{c['success']:.2f}" for c in found))
+            ratio = found[2]["peak_slip_ratio"]
+            cells.append(f"{ratio:.2f}" if ratio == ratio else "no pull")
+        force = name.rsplit("_", 1)[-1].removesuffix("N")
+        lines.append(f"| {force} N | " + " | ".join(cells) + " |")
+    return lines
+
+
+def main() -> None:
+    presets = {}
+    for kind in KINDS:
+        presets.update(load(f"{kind}/*_*/table2.csv"))
     sweep = load("grip_sweep/*/table2.csv") if list(RESULTS.glob("grip_sweep/*/table2.csv")) else {}
-    if sweep:
-        lines += [
-            "",
-            "## Where the trap appears: the grip force",
-            "",
-            "A sensitivity run, not a calibration: `heuristic_pull` with `franka_hand` and "
-            "elliptic cones at a lower continuous grasp force per jaw "
-            "(`gripper.grasp_force=F`; `grip_sweep/*/table2.md`; drawers), next to the presets' "
-            "actual drives (70 N; Menagerie's servo, about 0.3 N on a 12 mm bar). Success "
-            "smooth -> normal -> high, and the slip ratio at the peak pull in high:",
-            "",
-            "| grip per jaw | knob | slip ratio (high) | finger pull | slip ratio (high) |",
-            "|---|---|---:|---|---:|",
-        ]
-        for name, rows in sweep.items():
-            cells = []
-            for category in ("knob", "finger_pull"):
-                found = [cell(rows, "heuristic_pull", category, m) for m in MODES]
-                cells.append(" -> ".join(f"{c['success']:.2f}" for c in found))
-                ratio = found[2]["peak_slip_ratio"]
-                cells.append(f"{ratio:.2f}" if ratio == ratio else "no pull")
-            force = name.rsplit("_", 1)[-1].removesuffix("N")
-            lines.append(f"| {force} N | " + " | ".join(cells) + " |")
+    header = [
+        "# Table 2 under every gripper x contact preset, on drawers and doors",
+        "",
+        "Command: `python experiments/table2/report.py` (after `bash experiments/table2/run.sh`); "
+        "figures: [`figures.json`](figures.json); method and reading: "
+        "[README.md](../README.md). Per kind and preset, the paper's layout, strategy labels "
+        "and slip statistics per cell: "
+        + ", ".join(f"[{n}]({n}/table2.md)" for n in presets)
+        + ".",
+        "",
+        "![success](success.png)",
+    ]
+    sections = [header, trap_section(presets), form_closure_section(presets)]
+    sections += [slip_section(presets)] + ([sweep_section(sweep)] if sweep else [])
     plot(presets, RESULTS / "success.png")
-    (RESULTS / "report.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    atomic_write_text(
+        RESULTS / "figures.json", json.dumps(figures(presets, sweep), indent=1) + "\n"
+    )
+    atomic_write_text(RESULTS / "report.md", "\n\n".join("\n".join(s) for s in sections) + "\n")
+    print(f"wrote {RESULTS / 'report.md'} and figures.json")
 
 
 if __name__ == "__main__":

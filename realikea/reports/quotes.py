@@ -5,10 +5,12 @@ A quote is a markdown link whose text is the number and whose title is its key i
     the pool ran at [0.82](bench_pool_figures.json "at_32.pool_over_limit") of the physics limit
 
 The file (`.json`, or `.csv` read as a list of rows) is relative to the markdown file. A key is a
-dotted path; on a list, a segment `field=value` picks the item whose `field` is `value`
-(`rows.envs=32.pool`). The quoted text matches when it is the value written with as many
-decimals as the text shows; a trailing `%` quotes a fraction as a percentage, and a leading `+`,
-a Unicode minus and thousands separators are allowed.
+dotted path; on a list, a segment `field=value` picks the one item whose `field` is `value`
+(`rows.envs=32.pool`), and `a=1&b=x` the one item matching both (values without dots). The
+quoted text matches when it is the value written with as many decimals as the text shows; a
+trailing `%` quotes a fraction as a percentage, and a leading `+`, a Unicode minus and thousands
+separators are allowed. A rate with its interval, `0.90 [0.79, 0.96]`, quotes a list of three
+numbers, each written as its own part shows.
 """
 
 from __future__ import annotations
@@ -20,7 +22,8 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-QUOTE = re.compile(r'\[([^\]\n]+)\]\(([^)\s]+\.(?:json|csv)) "([^"\n]+)"\)')
+QUOTE = re.compile(r'\[((?:[^\[\]\n]|\[[^\[\]\n]*\])+)\]\(([^)\s]+\.(?:json|csv)) "([^"\n]+)"\)')
+INTERVAL = re.compile(r"(\S+) \[(\S+), (\S+)\]")
 NUMBER = re.compile(r"([+\-−]?)(\d[\d,]*)(?:\.(\d+))?\s?(%?)")
 
 
@@ -60,10 +63,10 @@ def lookup(data, key: str):
     value = data
     for segment in key.split("."):
         if isinstance(value, list) and "=" in segment:
-            field, wanted = segment.split("=", 1)
-            matches = [item for item in value if str(item.get(field)) == wanted]
+            wanted = [condition.split("=", 1) for condition in segment.split("&")]
+            matches = [i for i in value if all(str(i.get(f)) == v for f, v in wanted)]
             if len(matches) != 1:
-                raise KeyError(f"{len(matches)} items with {field} = {wanted}")
+                raise KeyError(f"{len(matches)} items with {segment}")
             value = matches[0]
         elif isinstance(value, dict) and segment in value:
             value = value[segment]
@@ -97,8 +100,13 @@ def mismatch(quote: Quote) -> str | None:
         value = lookup(_load(quote.data), quote.key)
     except (KeyError, AttributeError) as error:
         return f"{quote}: key not found ({error})"
+    interval = INTERVAL.fullmatch(quote.text.strip())
     try:
-        expected = written(float(value), quote.text)
+        if interval and isinstance(value, list) and len(value) == 3:
+            parts = [written(float(v), t) for v, t in zip(value, interval.groups(), strict=True)]
+            expected = None if None in parts else f"{parts[0]} [{parts[1]}, {parts[2]}]"
+        else:
+            expected = written(float(value), quote.text)
     except (TypeError, ValueError):
         return f"{quote}: the value {value!r} is not a number"
     if expected is None:
