@@ -96,43 +96,34 @@ def headline_sentence(rows: list[dict], failed: dict[str, str] | None = None) ->
     return text
 
 
-def summary_markdown(
-    rows: list[dict],
-    face_areas: dict[str, np.ndarray],
-    command: str,
-    samples: int,
-    seed: int,
-    headline: str,
-    chosen: dict[str, list[tuple[dict, str]]],
-    failed: dict[str, str] | None = None,
-    clearance: float = 0.0,
-    timing: tuple[float, float, int, int] | None = None,
-) -> str:
-    """The report's summary page; ``timing`` = (seconds, of them building, built, parts)."""
+def _run_sentence(timing: tuple[float, float, int, int] | None) -> str:
+    """How long the run took and how many parts it built, or '' without timing."""
     if timing is None:
-        run = ""
-    else:
-        seconds, building, built, total = timing
-        cached = (
-            f"{building:.0f} s of it building the collision meshes of {built} of {total} parts "
-            "(steps 1-4), the others from the cache"
-            if built
-            else "every part's collision meshes from the cache"
-        )
-        run = f" Run time {seconds:.0f} s on {os.cpu_count()} cores, {cached}."
-    means = category_means(rows)
+        return ""
+    seconds, building, built, total = timing
+    cached = (
+        f"{building:.0f} s of it building the collision meshes of {built} of {total} parts "
+        "(steps 1-4), the others from the cache"
+        if built
+        else "every part's collision meshes from the cache"
+    )
+    return f" Run time {seconds:.0f} s on {os.cpu_count()} cores, {cached}."
+
+
+SUMMARY_METRICS = (
+    ("E(Q→P) mean", "q_to_p_mean_m"),
+    ("E(Q→P) median", "q_to_p_median_m"),
+    ("E(Q→P) P90", "q_to_p_p90_m"),
+    ("E(Q→P) max", "q_to_p_max_m"),
+    ("E(P→Q) mean", "p_to_q_mean_m"),
+    ("E(Q→P) mean, exposed", "q_to_p_mean_exposed_m"),
+    ("E(P→Q) mean, exposed", "p_to_q_mean_exposed_m"),
+)
+
+
+def _category_lines(rows: list[dict], clearance: float) -> list[str]:
+    """Per category: the means of each statistic for both sources, and their ratio."""
     lines = [
-        "# Collision fidelity: CoACD against the single convex hull",
-        "",
-        headline,
-        "",
-        "Produced by (from the repository root):",
-        "",
-        f"    {command}",
-        "",
-        f"{samples:,} points per shell (seed {seed}), exact point-to-triangle distances "
-        f"(`realikea.fidelity.metric.surface_deviation`); {len(rows)} parts.{run}",
-        "",
         "## Per category",
         "",
         "Mean over the category's parts of each part's statistic, in millimetres. "
@@ -147,46 +138,40 @@ def summary_markdown(
         "| category | parts | metric | CoACD | hull | hull / CoACD |",
         "|---|---:|---|---:|---:|---:|",
     ]
-    metrics = (
-        ("E(Q→P) mean", "q_to_p_mean_m"),
-        ("E(Q→P) median", "q_to_p_median_m"),
-        ("E(Q→P) P90", "q_to_p_p90_m"),
-        ("E(Q→P) max", "q_to_p_max_m"),
-        ("E(P→Q) mean", "p_to_q_mean_m"),
-        ("E(Q→P) mean, exposed", "q_to_p_mean_exposed_m"),
-        ("E(P→Q) mean, exposed", "p_to_q_mean_exposed_m"),
-    )
-    for category, m in means.items():
-        first = True
-        for label, key in metrics:
+    for category, m in category_means(rows).items():
+        for i, (label, key) in enumerate(SUMMARY_METRICS):
             c, h = m[f"coacd_{key}"], m[f"hull_{key}"]
-            head = f"{category} | {m['parts']}" if first else " | "
+            head = f"{category} | {m['parts']}" if i == 0 else " | "
             lines.append(f"| {head} | {label} | {_mm(c)} | {_mm(h)} | {_ratio(h, c)} |")
-            first = False
         lines.append(
             f"|  |  | convex pieces | {m['coacd_pieces']:.1f} | {m['hull_pieces']:.0f} |  |"
         )
+    return lines
+
+
+def _worst_lines(rows: list[dict]) -> list[str]:
+    """The five parts where CoACD swells most."""
     worst = sorted(rows, key=lambda r: r["coacd_q_to_p_mean_m"], reverse=True)[:5]
-    lines += [
-        "",
+    return [
         "Parts where CoACD swells most (E(Q→P), mm; sorted by the mean):",
         "",
         "| part | family | pieces | CoACD mean | exposed | P90 | max | hull mean | exposed |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|",
-    ]
-    for r in worst:
-        lines.append(
+        *(
             f"| {r['id']} | {r['family']} | {r['coacd_pieces']} | {_mm(r['coacd_q_to_p_mean_m'])} "
             f"| {_mm(r['coacd_q_to_p_mean_exposed_m'])} | {_mm(r['coacd_q_to_p_p90_m'])} "
             f"| {_mm(r['coacd_q_to_p_max_m'])} | {_mm(r['hull_q_to_p_mean_m'])} "
             f"| {_mm(r['hull_q_to_p_mean_exposed_m'])} |"
-        )
-    if failed:
-        lines += ["", "## Parts not measured", "", "The workflow (steps 1-4) failed for:", ""]
-        lines += [f"- `{pid}`: {error}" for pid, error in failed.items()]
-    lines += ["", "## Mesh statistics", "", *mesh_stats_lines(rows, face_areas)]
-    lines += ["", "## Files", ""]
-    lines += [
+            for r in worst
+        ),
+    ]
+
+
+def _files_lines(chosen: dict[str, list[tuple[dict, str]]]) -> list[str]:
+    """What each file of the report folder holds."""
+    lines = [
+        "## Files",
+        "",
         "- `parts.csv`: one row per part; distances in metres (`*_m`), counts summed over pieces.",
         "- `distribution.png`: per-part mean, median and P90 of dist(q, P) per category (fig. 4).",
         "- `mesh_stats.png`: vertex counts per part and face-area distributions (appendix).",
@@ -197,6 +182,44 @@ def summary_markdown(
             f"- `heatmaps_{category}.png`: P, dist(p, Q), dist(q, P) on CoACD, dist(q', P) on the "
             f"hull (fig. 5) for {shown}; ranks by CoACD's E(Q→P) on the exposed surface."
         )
+    return lines
+
+
+def summary_markdown(
+    rows: list[dict],
+    face_areas: dict[str, np.ndarray],
+    command: str,
+    samples: int,
+    seed: int,
+    headline: str,
+    chosen: dict[str, list[tuple[dict, str]]],
+    failed: dict[str, str] | None = None,
+    clearance: float = 0.0,
+    timing: tuple[float, float, int, int] | None = None,
+) -> str:
+    """The report's summary page; ``timing`` = (seconds, of them building, built, parts)."""
+    run = _run_sentence(timing)
+    lines = [
+        "# Collision fidelity: CoACD against the single convex hull",
+        "",
+        headline,
+        "",
+        "Produced by (from the repository root):",
+        "",
+        f"    {command}",
+        "",
+        f"{samples:,} points per shell (seed {seed}), exact point-to-triangle distances "
+        f"(`realikea.fidelity.metric.surface_deviation`); {len(rows)} parts.{run}",
+        "",
+        *_category_lines(rows, clearance),
+        "",
+        *_worst_lines(rows),
+    ]
+    if failed:
+        lines += ["", "## Parts not measured", "", "The workflow (steps 1-4) failed for:", ""]
+        lines += [f"- `{pid}`: {error}" for pid, error in failed.items()]
+    lines += ["", "## Mesh statistics", "", *mesh_stats_lines(rows, face_areas)]
+    lines += ["", *_files_lines(chosen)]
     return "\n".join(lines) + "\n"
 
 
