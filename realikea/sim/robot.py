@@ -323,6 +323,54 @@ def _arm_xml(hand: str, visuals: bool = True) -> str:
 </body>"""
 
 
+def _arm_actuators(command_filter: float) -> str:
+    """The arm's position actuators; `command_filter` > 0 filters their commands (s)."""
+    dynamics = f'dyntype="filterexact" dynprm="{command_filter:g}"' if command_filter > 0 else ""
+    return "".join(
+        f'<general name="{act}" joint="{jnt}" ctrlrange="{lo} {hi}" '
+        f'forcerange="{-tau} {tau}" gainprm="{kp}" biasprm="0 {-kp} {-kv}" {dynamics}/>'
+        for act, jnt, (*_, lo, hi), tau, kp, kv in zip(
+            ARM_ACTUATORS, ARM_JOINTS, DH_TABLE, TORQUE_LIMIT, ARM_KP, ARM_KV, strict=True
+        )
+    )
+
+
+def _finger_drive_xml(gripper: GripperModel) -> tuple[str, str]:
+    """The fingers' actuator, and their tendon and equality coupling."""
+    lim = gripper.force_limit
+    actuator = f"""
+    <general name="{GRIPPER_ACTUATOR}" tendon="{GRIPPER_TENDON}"
+             ctrlrange="{_f(gripper.ctrl_range)}" forcerange="{-lim} {lim}"
+             gainprm="{gripper.gain:.9g}" biasprm="0 {-gripper.kp:.9g} {-gripper.kv:.9g}"/>"""
+    coupling = f"""
+  <tendon>
+    <fixed name="{GRIPPER_TENDON}">
+      <joint joint="{FINGER_JOINTS[0]}" coef="0.5"/>
+      <joint joint="{FINGER_JOINTS[1]}" coef="0.5"/>
+    </fixed>
+  </tendon>
+  <equality>
+    <joint joint1="{FINGER_JOINTS[0]}" joint2="{FINGER_JOINTS[1]}" solref="0.005 1"
+           solimp="0.95 0.99 0.001"/>
+  </equality>"""
+    return actuator, coupling
+
+
+def _panda_assets(arm: bool, fingers: bool) -> str:
+    """The Panda's visual meshes of the bodies built."""
+    # the Panda's meshes from the installed pybullet_data (Apache License 2.0, the file
+    # pybullet_data/franka_panda/LICENSE.txt; copyright Franka Robotics GmbH, formerly
+    # Franka Emika GmbH, per franka_ros's NOTICE), split by colour into the cache; absolute
+    # paths, so no meshdir touches the meshes of a configuration attached to this model
+    used = {"link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7"}
+    used = (used if arm else set()) | {HAND_BODY} | ({"finger"} if fingers else set())
+    meshes = "".join(
+        f'\n    <mesh name="panda_{p.name}" file={quoteattr(str(p.file))} inertia="shell"/>'
+        for body, pieces in panda_pieces().items() if body in used for p in pieces
+    )  # fmt: skip
+    return f"\n  <asset>{meshes}\n  </asset>"
+
+
 def robot_xml(
     gripper: GripperModel,
     arm: bool = True,
@@ -340,52 +388,19 @@ def robot_xml(
     `visuals` draws the Panda's meshes (visual only) and hides the collision primitives;
     without them the primitives are drawn. Either way the same collision, masses and dynamics.
     """
-    dynamics = f'dyntype="filterexact" dynprm="{command_filter:g}"' if command_filter > 0 else ""
     if arm:
         yaw = (math.cos(HAND_YAW / 2), 0.0, 0.0, math.sin(HAND_YAW / 2))
         body = _arm_xml(_hand_xml(gripper, (0.0, 0.0, FLANGE_D), yaw, fingers, visuals), visuals)
-        actuators = "".join(
-            f'<general name="{act}" joint="{jnt}" ctrlrange="{lo} {hi}" '
-            f'forcerange="{-tau} {tau}" gainprm="{kp}" biasprm="0 {-kp} {-kv}" {dynamics}/>'
-            for act, jnt, (*_, lo, hi), tau, kp, kv in zip(
-                ARM_ACTUATORS, ARM_JOINTS, DH_TABLE, TORQUE_LIMIT, ARM_KP, ARM_KV, strict=True
-            )
-        )
+        actuators = _arm_actuators(command_filter)
     else:
         body = _hand_xml(gripper, hand_pos, (0.0, 1.0, 0.0, 0.0), fingers, visuals)
         actuators = ""
     coupling = ""
     if fingers:
-        lim = gripper.force_limit
-        actuators += f"""
-    <general name="{GRIPPER_ACTUATOR}" tendon="{GRIPPER_TENDON}"
-             ctrlrange="{_f(gripper.ctrl_range)}" forcerange="{-lim} {lim}"
-             gainprm="{gripper.gain:.9g}" biasprm="0 {-gripper.kp:.9g} {-gripper.kv:.9g}"/>"""
-        coupling = f"""
-  <tendon>
-    <fixed name="{GRIPPER_TENDON}">
-      <joint joint="{FINGER_JOINTS[0]}" coef="0.5"/>
-      <joint joint="{FINGER_JOINTS[1]}" coef="0.5"/>
-    </fixed>
-  </tendon>
-  <equality>
-    <joint joint1="{FINGER_JOINTS[0]}" joint2="{FINGER_JOINTS[1]}" solref="0.005 1"
-           solimp="0.95 0.99 0.001"/>
-  </equality>"""
+        finger_actuator, coupling = _finger_drive_xml(gripper)
+        actuators += finger_actuator
     group = COLLISION_GROUP if visuals else SOLID_GROUP
-    assets = ""
-    if visuals:
-        # the Panda's meshes from the installed pybullet_data (Apache License 2.0, the file
-        # pybullet_data/franka_panda/LICENSE.txt; copyright Franka Robotics GmbH, formerly
-        # Franka Emika GmbH, per franka_ros's NOTICE), split by colour into the cache; absolute
-        # paths, so no meshdir touches the meshes of a configuration attached to this model
-        used = {"link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7"}
-        used = (used if arm else set()) | {HAND_BODY} | ({"finger"} if fingers else set())
-        assets = "".join(
-            f'\n    <mesh name="panda_{p.name}" file={quoteattr(str(p.file))} inertia="shell"/>'
-            for body, pieces in panda_pieces().items() if body in used for p in pieces
-        )  # fmt: skip
-        assets = f"\n  <asset>{assets}\n  </asset>"
+    assets = _panda_assets(arm, fingers) if visuals else ""
     return f"""<mujoco model="panda_{gripper.name}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="0.002" integrator="implicitfast"/>
