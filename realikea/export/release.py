@@ -168,6 +168,42 @@ def _same(record: dict, key: str, value, config_id: str, what: str) -> None:
         )
 
 
+def _config_entry(config, folders: dict, out: Path, hasher, totals: dict, broken: list) -> dict:
+    """One configuration's manifest entry: its ids, resistance mode, certificate per source and
+    every file of its export folders (adding to `totals`; a folder that does not hold what its
+    metadata lists goes to `broken`)."""
+    record: dict = {
+        "part_id": config.part.id,
+        "base_id": config.base.id,
+        "category": config.part.category,
+        "family": config.part.family,
+        "kind": config.base.kind,
+    }
+    certificates: dict[str, dict] = {}
+    exports: dict[str, dict] = {}
+    for name, (fmt, source) in folders.items():
+        folder = export_folder(out, fmt, source, config.id)
+        metadata = json.loads((folder / "metadata.json").read_text())
+        files, problem = _folder_files(folder, metadata)
+        if problem:
+            broken.append(f"{folder}: {problem}")
+        mode = metadata["resistance"]["exported"]["mode"]
+        _same(record, "resistance_mode", mode, config.id, "the resistance mode")
+        certificate = metadata["fidelity_certificate"]
+        _same(certificates, source, certificate, config.id, f"the {source} certificate")
+        listed = [hasher.entry(p) for p in files]
+        exports[name] = {
+            "format": fmt,
+            "collision": source,
+            "model": (folder / metadata["export"]["model"]).relative_to(out).as_posix(),
+            "files": listed,
+        }
+        totals[name]["configurations"] += 1
+        totals[name]["files"] += len(listed)
+        totals[name]["bytes"] += sum(e["size"] for e in listed)
+    return {**record, "fidelity_certificate": certificates, "exports": exports}
+
+
 def build_manifest(
     configs: Sequence[Configuration],
     formats: Sequence[str],
@@ -195,37 +231,8 @@ def build_manifest(
         disable=not progress or len(configs) < 2,
     )
     for config in configs:
-        record: dict = {
-            "part_id": config.part.id,
-            "base_id": config.base.id,
-            "category": config.part.category,
-            "family": config.part.family,
-            "kind": config.base.kind,
-        }
-        certificates: dict[str, dict] = {}
-        exports: dict[str, dict] = {}
-        for name, (fmt, source) in folders.items():
-            folder = export_folder(out, fmt, source, config.id)
-            metadata = json.loads((folder / "metadata.json").read_text())
-            files, problem = _folder_files(folder, metadata)
-            if problem:
-                broken.append(f"{folder}: {problem}")
-            mode = metadata["resistance"]["exported"]["mode"]
-            _same(record, "resistance_mode", mode, config.id, "the resistance mode")
-            certificate = metadata["fidelity_certificate"]
-            _same(certificates, source, certificate, config.id, f"the {source} certificate")
-            listed = [hasher.entry(p) for p in files]
-            exports[name] = {
-                "format": fmt,
-                "collision": source,
-                "model": (folder / metadata["export"]["model"]).relative_to(out).as_posix(),
-                "files": listed,
-            }
-            totals[name]["configurations"] += 1
-            totals[name]["files"] += len(listed)
-            totals[name]["bytes"] += sum(e["size"] for e in listed)
-            bar.update()
-        entries[config.id] = {**record, "fidelity_certificate": certificates, "exports": exports}
+        entries[config.id] = _config_entry(config, folders, out, hasher, totals, broken)
+        bar.update(len(folders))
     bar.close()
     if broken:
         more = f"\n  ... and {len(broken) - LISTED} more" if len(broken) > LISTED else ""
