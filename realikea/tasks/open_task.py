@@ -111,6 +111,28 @@ class OpenTask:
         place = placement(cfg, self.part.category, self.base.kind)
         self.model = build_scene(Path(config_mjcf), cfg, place)
         self.data = mujoco.MjData(self.model)
+        self._place_robot(cfg, place)
+        self.gripper = GripperModel.from_config(cfg.gripper)
+        self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
+        self.randomization = Randomization.from_config(cfg.dr)
+        self.start = PregraspStart.from_config(task)
+        self.rng = np.random.default_rng(seed)
+        self._read_task(task)
+        self.iteration = 0
+        parts, panel = self._index_model(task)
+        self.perturb = PosePerturbation(self.model, self._part, self.model.body(CABINET_ROOT).id)
+        self.grip_sensor = GripSensor(self.model, PAD_GEOMS, FINGER_BODIES, PART_BODY)
+        self.state = EpisodeState()
+        self._nominal_handle = np.zeros(3)
+        self._t1, self._t2 = self.o1, self.o2
+        self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
+        self._monitor_contacts(cfg, parts, panel)
+        self._step_forces, self._step_samples = np.zeros(len(SAMPLE_FORCES)), 0
+        self._excess = 0.0  # the last action's squared excess beyond the clip to [-1, 1]
+
+    def _place_robot(self, cfg: DictConfig, place) -> None:
+        """The hand's nominal orientation, the home posture (turned with the hand's roll) and
+        the IK controller, for the robot where the scene placed it."""
         roll = _hand_roll(self.model, self.base.mount_roll_deg, place.hand_turned)
         self.nominal = rolled_nominal(roll)
         self.home = place.home
@@ -125,11 +147,10 @@ class OpenTask:
             position, _ = rolled.tcp_pose(start)
             self.home = rolled.converge(start, position, 0.0)
         self.ik = IKController.from_config(cfg, nominal=self.nominal, home=self.home, base_pos=base)
-        self.gripper = GripperModel.from_config(cfg.gripper)
-        self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
-        self.randomization = Randomization.from_config(cfg.dr)
-        self.start = PregraspStart.from_config(task)
-        self.rng = np.random.default_rng(seed)
+
+    def _read_task(self, task: DictConfig) -> None:
+        """The task's constants as plain numbers: OmegaConf lookups cost tens of microseconds
+        each on the hot path."""
         self.decimation = int(task.decimation)
         self.horizon = round(
             float(task.episode_seconds) / (self.decimation * self.model.opt.timestep)
@@ -138,13 +159,15 @@ class OpenTask:
         self.translation_scale = float(task.action.translation_scale)
         self.o1, self.o2 = (np.asarray(task.targets[k], float) for k in ("o1", "o2"))
         self.lateral_bias = float(task.targets.get("lateral_bias", 0.0))
-        # plain numbers: OmegaConf lookups cost tens of microseconds each on the hot path
         ws = task.workspace
         self.workspace = (np.asarray(ws.below, float), np.asarray(ws.above, float))
         self.pitch_range = (float(ws.pitch[0]), float(ws.pitch[1]))
         self.terminations = Terminations(**task.terminations)
         self.outcome_thresholds = OmegaConf.to_container(task.outcome)
-        self.iteration = 0
+
+    def _index_model(self, task: DictConfig) -> tuple[list[int], list[int]]:
+        """The model's ids the steps read (joints, actuators, sites, bodies) and the front's
+        joint; the part's geoms and the rest of the moving front's (the panel)."""
         m = self.model
         self._arm_q = np.array([m.jnt_qposadr[m.joint(j).id] for j in ARM_JOINTS])
         self._finger_q = np.array([m.jnt_qposadr[m.joint(j).id] for j in FINGER_JOINTS])
@@ -167,14 +190,12 @@ class OpenTask:
         self._part = m.body(PART_BODY).id
         parts = np.flatnonzero(m.geom_bodyid == self._part).tolist()
         panel = [g for g in subtree_geoms(m, m.jnt_bodyid[front.id]) if g not in parts]
-        self.perturb = PosePerturbation(m, self._part, m.body(CABINET_ROOT).id)
-        self.grip_sensor = GripSensor(m, PAD_GEOMS, FINGER_BODIES, PART_BODY)
-        self.state = EpisodeState()
-        self._nominal_handle = np.zeros(3)
-        self._t1, self._t2 = self.o1, self.o2
-        self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
-        # the strategy classifier and the failure modes: evaluation's `contacts` settings
-        # (realikea/conf/eval.yaml)
+        return parts, panel
+
+    def _monitor_contacts(self, cfg: DictConfig, parts: list[int], panel: list[int]) -> None:
+        """The strategy classifier and the failure modes, when evaluation's `contacts` settings
+        (realikea/conf/eval.yaml) log them."""
+        m = self.model
         contacts = cfg.get("contacts")
         self.classifier = self.contact_monitor = self.failure_monitor = None
         if contacts is not None and bool(contacts.log):
@@ -185,8 +206,6 @@ class OpenTask:
             self.contact_monitor = ContactMonitor(m, gripper_bodies, parts, panel)
             robot = subtree_geoms(m, self._base)
             self.failure_monitor = FailureMonitor(m, robot, parts + panel)
-        self._step_forces, self._step_samples = np.zeros(len(SAMPLE_FORCES)), 0
-        self._excess = 0.0  # the last action's squared excess beyond the clip to [-1, 1]
 
     # --- reading the scene ----------------------------------------------------------------
     @property
