@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import trimesh
@@ -163,17 +164,20 @@ def world_pitch(rotation: np.ndarray, nominal: np.ndarray) -> float:
 
 
 # --- sampling -------------------------------------------------------------------------------
-def sample_grasps(
-    mesh_path: str,
-    reference: np.ndarray,
-    friction: float,
-    max_aperture: float,
-    params: SamplerParams = SamplerParams(),
-) -> list[Grasp]:
-    """Antipodal, reachable, collision-free grasps on the mesh (part frame), best first."""
-    mesh = trimesh.load(mesh_path, force="mesh")
-    rng = np.random.default_rng(params.seed)
-    cone = math.atan(friction)
+class _Pairs(NamedTuple):
+    """Antipodal contact pairs: the sampled point, the opposite hit, the closing pitch, the
+    width between them and the margin inside the friction cone."""
+
+    points: np.ndarray
+    hits: np.ndarray
+    pitch: np.ndarray
+    width: np.ndarray
+    margin: np.ndarray
+
+
+def _antipodal_pairs(mesh, rng, reference, cone: float, max_aperture: float, params) -> _Pairs:
+    """Surface points whose reachable closing axis lies inside the friction cone, paired with
+    the opposite surface where the jaws fit and that contact is inside the cone too."""
     points, faces = trimesh.sample.sample_surface(mesh, params.samples, seed=rng)
     normals = mesh.face_normals[faces]
     ry, rz = reference[:, 1], reference[:, 2]
@@ -188,7 +192,8 @@ def sample_grasps(
         a[ok] for a in (points, normals, axis, pitch, angle_in)
     )
     if not len(points):
-        return []
+        empty = np.zeros((0, 3))
+        return _Pairs(empty, empty, np.zeros(0), np.zeros(0), np.zeros(0))
     # the opposite surface: first hit along the closing axis (the exact triangle intersector,
     # deterministic, not embree's float32 one)
     caster = trimesh.ray.ray_triangle.RayMeshIntersector(mesh)
@@ -202,21 +207,37 @@ def sample_grasps(
     good = (width >= params.min_width) & (width <= room) & (angle_out < cone)
     rays, hits, width, angle_out = rays[good], hits[good], width[good], angle_out[good]
     margin = cone - np.maximum(angle_in[rays], angle_out)
-    centre = (points[rays] + hits) / 2.0
-    rotations = _pitched(reference, pitch[rays])
+    return _Pairs(points[rays], hits, pitch[rays], width, margin)
+
+
+def sample_grasps(
+    mesh_path: str,
+    reference: np.ndarray,
+    friction: float,
+    max_aperture: float,
+    params: SamplerParams = SamplerParams(),
+) -> list[Grasp]:
+    """Antipodal, reachable, collision-free grasps on the mesh (part frame), best first."""
+    mesh = trimesh.load(mesh_path, force="mesh")
+    rng = np.random.default_rng(params.seed)
+    cone = math.atan(friction)
+    pairs = _antipodal_pairs(mesh, rng, reference, cone, max_aperture, params)
+    if not len(pairs.points):
+        return []
+    centre = (pairs.points + pairs.hits) / 2.0
+    rotations = _pitched(reference, pairs.pitch)
     # candidates: each pair with the contacts at the pad centre or nearer the fingertips
     offsets = np.asarray(params.depth_offsets, float)
-    n = len(rays)
-    cand_centre = np.repeat(centre, len(offsets), axis=0)
+    n = len(pairs.points)
     cand_rot = np.repeat(rotations, len(offsets), axis=0)
     cand_offset = np.tile(offsets, n)
-    cand_tcp = cand_centre - cand_offset[:, None] * cand_rot[:, :, 2]
-    cand_width = np.repeat(width, len(offsets))
-    cand_margin = np.repeat(margin, len(offsets))
-    cand_contacts = np.repeat(np.stack([points[rays], hits], axis=1), len(offsets), axis=0)
+    cand_tcp = np.repeat(centre, len(offsets), axis=0) - cand_offset[:, None] * cand_rot[:, :, 2]
+    cand_width = np.repeat(pairs.width, len(offsets))
+    cand_margin = np.repeat(pairs.margin, len(offsets))
+    cand_contacts = np.repeat(np.stack([pairs.points, pairs.hits], axis=1), len(offsets), axis=0)
     order = np.lexsort((cand_offset, -cand_margin))  # best margin first, then the deeper
     # one candidate per 1 mm cell of TCP position and 0.02 rad of pitch (the first in order)
-    cand_pitch = np.repeat(pitch[rays], len(offsets))
+    cand_pitch = np.repeat(pairs.pitch, len(offsets))
     cells = np.column_stack([np.round(cand_tcp / 0.001), np.round(cand_pitch / 0.02)])
     _, first = np.unique(cells[order], axis=0, return_index=True)
     order = order[np.sort(first)]
