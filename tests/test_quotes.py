@@ -53,7 +53,11 @@ def test_a_wrong_number_a_missing_key_and_a_missing_file_are_named(tmp_path):
         'wrong [0.83](cells.json "rate"), [50](cells.json "runs"), [1](gone.json "x"), '
         '[0.90 [0.80, 0.96]](cells.json "ci")\n'
     )
-    assert len(quotes(md)) == 7
+    md.write_text(
+        md.read_text() + 'code `[1](gone.json "x")` and\n\n    [1](gone.json "x")\n'
+        '```\n[1](gone.json "x")\n```\n'
+    )
+    assert len(quotes(md)) == 7  # none of the three in code
     problems = check([md])
     assert len(problems) == 4
     assert "README.md:2" in problems[0] and "the data say 0.82" in problems[0]

@@ -23,6 +23,7 @@ from functools import cache
 from pathlib import Path
 
 QUOTE = re.compile(r'\[((?:[^\[\]\n]|\[[^\[\]\n]*\])+)\]\(([^)\s]+\.(?:json|csv)) "([^"\n]+)"\)')
+CODE_SPAN = re.compile(r"`[^`]*`")
 INTERVAL = re.compile(r"(\S+) \[(\S+), (\S+)\]")
 NUMBER = re.compile(r"([+\-−]?)(\d[\d,]*)(?:\.(\d+))?\s?(%?)")
 
@@ -42,10 +43,14 @@ class Quote:
 
 
 def quotes(markdown: Path) -> list[Quote]:
-    """The quotes in one markdown file, in order."""
-    found = []
+    """The quotes in one markdown file, in order (none in code spans or code blocks)."""
+    found, fenced = [], False
     for number, line in enumerate(Path(markdown).read_text().splitlines(), 1):
-        for text, data, key in QUOTE.findall(line):
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+        if fenced or line.startswith("    "):
+            continue
+        for text, data, key in QUOTE.findall(CODE_SPAN.sub("", line)):
             found.append(Quote(Path(markdown), number, text, Path(markdown).parent / data, key))
     return found
 
