@@ -4,7 +4,8 @@ at which iteration, and the reward stage the others ended their episodes in.
 
     python experiments/reward_screen/report.py [--runs DIR] [--out DIR]
 
-Writes OUT/table.md and OUT/learning_curves.png (OUT defaults to experiments/reward_screen/results).
+Writes OUT/table.md, OUT/figures.json (the counts the README quotes by key) and
+OUT/learning_curves.png (OUT defaults to experiments/reward_screen/results).
 "Learned": the training success, averaged over 20 iterations from some iteration on, reached
 0.5 (`iterations_to_success`, as the fidelity grid's report counts it). End stage: the share of
 episodes ending in each stage over the last 20 iterations (`/end_stage/<k>`).
@@ -98,6 +99,23 @@ def table(runs: list[dict]) -> str:
     return out
 
 
+def figures(runs: list[dict]) -> dict:
+    """Runs learned per recipe, per recipe and cell, and per recipe, cell and source, with each
+    seed's iteration to 50 % (null: never)."""
+    out: dict = {}
+    for run in sorted(runs, key=lambda r: (r["recipe"], r["cell"], r["collision"], r["seed"])):
+        reached = iterations_to_success(run)
+        recipe = out.setdefault(run["recipe"], {"learned": 0, "runs": 0, "cells": {}})
+        cell = recipe["cells"].setdefault(run["cell"], {"learned": 0, "runs": 0, "sources": {}})
+        source = cell["sources"].setdefault(run["collision"], {"learned": 0, "runs": 0})
+        source.setdefault("seeds", {})
+        for counts in (recipe, cell, source):
+            counts["learned"] += reached is not None
+            counts["runs"] += 1
+        source["seeds"][f"s{run['seed']}"] = reached
+    return {"recipes": out}
+
+
 # the curves: tag, axis label, y range, the line across (learned; success on a drawer)
 CURVES = (
     ("/episode/success", "training success", (-0.02, 1.02), 0.5),
@@ -156,9 +174,10 @@ def main() -> None:
     if not runs:
         parser.error(f"--runs {args.runs}: no kept run in it")
     atomic_write_text(args.out / "table.md", table(runs))
+    atomic_write_text(args.out / "figures.json", json.dumps(figures(runs), indent=1) + "\n")
     plot(runs, args.out / "learning_curves.png")
     print(table(runs))
-    print(f"wrote {args.out / 'table.md'} and {args.out / 'learning_curves.png'} "
+    print(f"wrote {args.out / 'table.md'}, figures.json and {args.out / 'learning_curves.png'} "
           f"({len(runs)} runs, {sum(r['minutes'] for r in runs) / 60:.1f} h)")  # fmt: skip
 
 
