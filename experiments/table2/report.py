@@ -89,6 +89,11 @@ def plot(presets: dict[str, list[dict]], path: Path) -> None:
     plt.close(fig)
 
 
+def heading(title: str, header: str, rule: str) -> list[str]:
+    """A section's title, then its table's header row and rule."""
+    return [title, "", header, rule]
+
+
 def trapped(rows, policy: str) -> tuple[list[str], list[str]]:
     """Success smooth -> normal -> high per category ('' if a mode is missing), and the
     categories where `policy` falls into the trap."""
@@ -133,12 +138,11 @@ def figures(presets: dict, sweep: dict) -> dict:
 
 
 def trap_section(presets: dict) -> list[str]:
-    lines = [
+    lines = heading(
         "## Does the friction trap appear?",
-        "",
         "| kind/preset | policy | knob | finger pull | two-point | trap on |",
         "|---|---|---|---|---|---|",
-    ]
+    )
     for name, rows in presets.items():
         for policy in FRICTION_BASED:
             cells, trap = trapped(rows, policy)
@@ -152,12 +156,11 @@ def trap_section(presets: dict) -> list[str]:
 
 
 def form_closure_section(presets: dict) -> list[str]:
-    lines = [
+    lines = heading(
         "## Form closure: hook_oracle in high resistance",
-        "",
         "| kind/preset | category | success | partial | fail | hook | lever | friction share |",
         "|---|---|---:|---:|---:|---:|---:|---:|",
-    ]
+    )
     for name, rows in presets.items():
         for category in CATEGORIES:
             c = cell(rows, "hook_oracle", category, "high")
@@ -174,13 +177,12 @@ def form_closure_section(presets: dict) -> list[str]:
 
 
 def slip_section(presets: dict) -> list[str]:
-    lines = [
+    lines = heading(
         "## The slip condition, from the logged contact forces",
-        "",
         "| kind/preset | policy | category | mode | S | grip (N) | capacity (N) | peak pull (N) | "
         "slip ratio | normal angle (deg) |",
         "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
-    ]
+    )
     for name, rows in presets.items():
         for policy in FRICTION_BASED:
             for category in ("knob", "finger_pull"):
@@ -197,12 +199,11 @@ def slip_section(presets: dict) -> list[str]:
 
 
 def sweep_section(sweep: dict) -> list[str]:
-    lines = [
+    lines = heading(
         "## Where the trap appears: the grip force",
-        "",
         "| grip per jaw | knob | slip ratio (high) | finger pull | slip ratio (high) |",
         "|---|---|---:|---|---:|",
-    ]
+    )
     for name, rows in sweep.items():
         cells = []
         for category in ("knob", "finger_pull"):
