@@ -236,9 +236,8 @@ def main() -> None:
     sections = [header, trap_section(presets), form_closure_section(presets)]
     sections += [slip_section(presets)] + ([sweep_section(sweep)] if sweep else [])
     plot(presets, RESULTS / "success.png")
-    atomic_write_text(
-        RESULTS / "figures.json", json.dumps(figures(presets, sweep), indent=1) + "\n"
-    )
+    data = json.dumps(figures(presets, sweep), indent=1).replace("NaN", "null")  # strict JSON
+    atomic_write_text(RESULTS / "figures.json", data + "\n")
     atomic_write_text(RESULTS / "report.md", "\n\n".join("\n".join(s) for s in sections) + "\n")
     print(f"wrote {RESULTS / 'report.md'} and figures.json")
 
