@@ -304,7 +304,7 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert "asset.split=test" in record["command"] and "env.seed=1000" in record["command"]
     evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
     assert len(results.read_text().splitlines()) == 1
-    table = load_script("experiments/generalist/tables.py").success_table(read_cells(results))
+    table = load_script("experiments/generalist/cell_tables.py").success_table(read_cells(results))
     assert "| drawer | two_point |" in table and "[" in table
 
 
@@ -329,7 +329,7 @@ def test_the_table_names_the_top_failure_mode_in_high_and_a_dash_without_one(loa
     slips = {"failure_modes": {"slip": 0.56, "narrow_clearance": 0.1}}
     cells = {("door", "knob", m): record(m, slips) for m in ("smooth", "normal", "high")}
     cells |= {("flap", "knob", m): record(m, {}) for m in ("smooth", "normal", "high")}
-    lines = load_script("experiments/generalist/tables.py").success_table(cells).splitlines()
+    lines = load_script("experiments/generalist/cell_tables.py").success_table(cells).splitlines()
     assert lines[0].endswith("| strategy (high) | failure mode (high) |")
     (door,) = [x for x in lines if x.startswith("| door | knob |")]
     (flap,) = [x for x in lines if x.startswith("| flap | knob |")]

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tables import difference_markdown, success_table
+from cell_tables import difference_markdown, success_table
 
 from realikea.eval.library_grid import KINDS, pooled, read_cells
 from realikea.eval.stats import describe, diff_interval, significant
