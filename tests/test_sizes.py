@@ -12,7 +12,6 @@ LONGEST_FUNCTION, LONGEST_SCRIPT = 80, 250
 # waiting for the fidelity grid's runs (the report and the grid's own analysis are rewritten
 # with the study's reports) or for a re-measurement that writes their data
 LONG_FUNCTIONS = {
-    "experiments/kitchen/fingertip_profile.py:main",
     "experiments/interop/pybullet_parity.py:render_missing",
     "realikea/reports/fidelity_ablation/report.py:report",
 }

@@ -100,20 +100,8 @@ def sim_boxes() -> tuple[float, list[tuple[str, np.ndarray, np.ndarray]]]:
     return float(model.body_pos[body][2]), boxes
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--d", type=float, nargs="+", default=DEFAULT_D, help="mm from the tip")
-    args = parser.parse_args()
-
-    mount, flange = urdf_checks()
-    pad, white = load_finger(MESH)
-    whole = trimesh.util.concatenate([pad, white])
-    vertices, pad_v = whole.vertices, pad.vertices
-    tip = vertices[:, 2].max()
-    sim_mount, boxes = sim_boxes()
-    sim_tip = max(hi[2] for _, _, hi in boxes)
-    sim_pad = next((lo, hi) for name, lo, hi in boxes if name.endswith("pad"))
-
+def print_frames(mount, flange, vertices, pad_v, tip, sim_mount, boxes, sim_tip, sim_pad) -> None:
+    """Where the real finger and ours sit below the flange, and the pads' sizes."""
     print(f"real finger: pybullet_data `{MESH.relative_to(FRANKA.parent)}` (franka_description's")
     licence = (FRANKA / "LICENSE.txt").relative_to(FRANKA.parent)
     print(f"  visual mesh; license `{licence}`, Apache-2.0)")
@@ -146,6 +134,10 @@ def main() -> None:
     for name, lo, hi in boxes:
         print(f"  ours, box `{name}`: x {lo[0] * 1e3:.1f}..{hi[0] * 1e3:.1f}, ", end="")
         print(f"y {lo[1] * 1e3:.1f}..{hi[1] * 1e3:.1f}, z {lo[2] * 1e3:.1f}..{hi[2] * 1e3:.1f}")
+
+
+def print_profile_table(ds, whole, pad_v, tip, boxes, sim_tip) -> None:
+    """Thickness and width of both fingertips at each distance from the tip."""
     print()
     print(f"d: mm from the tip (d = 0 sliced {TIP_SLICE * 1e3:g} mm in); y from the jaw plane, mm;")
     print("thickness = outer - inner face (across the jaw gap); width along a grasped bar")
@@ -156,7 +148,7 @@ def main() -> None:
     )
     print(" | ours width | thick ours-real | width ours-real |")
     print("|---:|---|---:|---:|---|---:|---:|---:|---:|")
-    for d in args.d:
+    for d in ds:
         dm = max(d * 1e-3, TIP_SLICE)
         seg = section(whole, tip - dm).reshape(-1, 3)
         r_in, r_out = seg[:, 1].min() * 1e3, seg[:, 1].max() * 1e3
@@ -178,6 +170,10 @@ def main() -> None:
         "cross groove (its face recessed ~1.4 mm for d ~ 7.5-10.5 mm), real inner y is its bottom"
     )
     print()
+
+
+def print_tip_profile(whole, pad, white, tip) -> None:
+    """The real tip's profile: pad and finger thickness, width, the pad face and its groove."""
     print("real tip profile (mm from the tip: value)")
     for d in (0.5, 5, 15):
         p, w = (section(t, tip - d * 1e-3).reshape(-1, 3)[:, 1] * 1e3 for t in (pad, white))
@@ -201,6 +197,24 @@ def main() -> None:
     seg = section(whole, tip - 5e-3)
     across = [f"{x:g}: {face_y(seg, x * 1e-3, 5e-3) * 1e3:.2f}" for x in np.arange(-3, 3.1, 0.5)]
     print(f"- pad face y across the centre line at d = 5 (x mm: y): {', '.join(across)}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--d", type=float, nargs="+", default=DEFAULT_D, help="mm from the tip")
+    args = parser.parse_args()
+
+    mount, flange = urdf_checks()
+    pad, white = load_finger(MESH)
+    whole = trimesh.util.concatenate([pad, white])
+    vertices, pad_v = whole.vertices, pad.vertices
+    tip = vertices[:, 2].max()
+    sim_mount, boxes = sim_boxes()
+    sim_tip = max(hi[2] for _, _, hi in boxes)
+    sim_pad = next((lo, hi) for name, lo, hi in boxes if name.endswith("pad"))
+    print_frames(mount, flange, vertices, pad_v, tip, sim_mount, boxes, sim_tip, sim_pad)
+    print_profile_table(args.d, whole, pad_v, tip, boxes, sim_tip)
+    print_tip_profile(whole, pad, white, tip)
 
 
 if __name__ == "__main__":
