@@ -1,4 +1,4 @@
-"""The task contract, as a Protocol: what the env pool (`realikea.pool`) and a rollout step.
+"""The task contract, as a Protocol: what the env pool (`realikea.pool`) and a rollout call.
 
 `OpenTask` (`realikea/tasks/open_task.py`) is the opening task; a new task is any class with these
 members, handed to the pool as `EnvPool(..., task_factory=MyTask)`.
