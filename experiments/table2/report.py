@@ -128,6 +128,8 @@ def figures(presets: dict, sweep: dict) -> dict:
                 "capacity": 2 * MU * r["grip_force"], "peak_pull": r["peak_pull"],
                 "slip_ratio": r["peak_slip_ratio"], "normal_angle": r["normal_angle_deg"],
             }  # fmt: skip
+            # no pulling phase: no pinch statistics (null in strict JSON, not NaN)
+            cells[key] = {k: None if v != v else v for k, v in cells[key].items()}
     traps = {
         f"{name}/{policy}": trapped(rows, policy)[1]
         for name, rows in presets.items()
@@ -236,7 +238,7 @@ def main() -> None:
     sections = [header, trap_section(presets), form_closure_section(presets)]
     sections += [slip_section(presets)] + ([sweep_section(sweep)] if sweep else [])
     plot(presets, RESULTS / "success.png")
-    data = json.dumps(figures(presets, sweep), indent=1).replace("NaN", "null")  # strict JSON
+    data = json.dumps(figures(presets, sweep), indent=1, allow_nan=False)
     atomic_write_text(RESULTS / "figures.json", data + "\n")
     atomic_write_text(RESULTS / "report.md", "\n\n".join("\n".join(s) for s in sections) + "\n")
     print(f"wrote {RESULTS / 'report.md'} and figures.json")
