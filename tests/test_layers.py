@@ -23,7 +23,7 @@ LAYERS = (
     ("interop",),
     ("pool",),
     ("policies",),
-    ("eval", "training"),
+    ("eval", "training", "runs"),
     ("reports",),
     ("cli",),
 )

@@ -3,7 +3,7 @@ on training parts of its own cell (randomized poses, as after the switch), episo
 one process, reading the force the front's closed stop holds against
 (`OpenTask.pressing_force`, N at the handle). Prints a markdown table.
 
-    python experiments/reward_screen/pressing.py                 # every kept run
+    python experiments/reward_screen/pressing.py                 # every kept run's checkpoint
     python experiments/reward_screen/pressing.py --runs gated_hull_two_point_smooth_s1
 
 Per run: the share of episodes that succeed, and over the steps after the first 20 (the
@@ -59,14 +59,18 @@ def measure(run: str, episodes: int) -> dict:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--runs", nargs="+", help="kept run names (default: every kept run)")
+    parser.add_argument(
+        "--runs", nargs="+", help="kept run names (default: every one with a checkpoint)"
+    )
     parser.add_argument("--episodes", type=int, default=EPISODES)
     args = parser.parse_args()
-    kept = sorted(p.name for p in RUNS.iterdir() if (p / "wall.json").is_file())
+    kept = sorted(
+        p.name for p in RUNS.iterdir() if (p / "wall.json").is_file() and any(p.glob("model_*.pt"))
+    )  # a superseded recipe's run keeps no checkpoint
     runs = args.runs or kept
     unknown = [r for r in runs if r not in kept]
     if unknown:
-        parser.error(f"not kept runs: {', '.join(unknown)} (kept: {', '.join(kept)})")
+        parser.error(f"not kept with a checkpoint: {', '.join(unknown)} (kept: {', '.join(kept)})")
     if args.episodes < 1:
         parser.error(f"--episodes must be >= 1, got {args.episodes}")
     print(f"training parts, randomized poses, {args.episodes} configurations a run (seed 0)")
