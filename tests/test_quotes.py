@@ -69,6 +69,7 @@ def test_a_wrong_number_a_missing_key_and_a_missing_file_are_named(tmp_path):
 def test_every_quoted_number_in_the_docs_matches_its_data():
     files = [
         WORKSPACE / "README.md",
+        WORKSPACE / "DATASET.md",
         *sorted((WORKSPACE / "docs").rglob("*.md")),
         *sorted((WORKSPACE / "experiments").rglob("*.md")),
     ]

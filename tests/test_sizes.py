@@ -10,14 +10,12 @@ from realikea.files import WORKSPACE
 
 LONGEST_FUNCTION, LONGEST_SCRIPT = 80, 250
 # waiting for the fidelity grid's runs (the report and the grid's own analysis are rewritten
-# with the study's reports) or for a re-measurement that writes their data
+# with the study's reports)
 LONG_FUNCTIONS = {
-    "experiments/interop/pybullet_parity.py:render_missing",
     "realikea/reports/fidelity_ablation/report.py:report",
 }
 LONG_SCRIPTS = {
     "experiments/fidelity_ablation/grid_v2_report.py",
-    "experiments/interop/pybullet_parity.py",
 }
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 from pool_record import Measured
 
 from realikea.files import atomic_write_text
+from realikea.reports.markdown import table
 
 COMMAND = "python experiments/benchmarks/bench_pool.py"
 
@@ -70,12 +71,6 @@ def figures(m: Measured) -> dict:
             "coacd_over_hull": coacd.physics_us / hull.physics_us,
         },
     }
-
-
-def table(header: list[str], align: str, rows: list[list[str]]) -> list[str]:
-    """A markdown table: `align` holds l or r per column."""
-    rule = "|" + "|".join("---:" if a == "r" else "---" for a in align) + "|"
-    return ["| " + " | ".join(header) + " |", rule, *("| " + " | ".join(r) + " |" for r in rows)]
 
 
 def _rates(f: dict) -> list[str]:
