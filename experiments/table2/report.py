@@ -21,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
 from realikea.files import atomic_write_text  # noqa: E402
+from realikea.reports.markdown import table  # noqa: E402
 from realikea.sim.resistance import MODES  # noqa: E402
 from realikea.sim.resistance import mode as resistance_mode
 
@@ -89,11 +90,6 @@ def plot(presets: dict[str, list[dict]], path: Path) -> None:
     plt.close(fig)
 
 
-def heading(title: str, header: str, rule: str) -> list[str]:
-    """A section's title, then its table's header row and rule."""
-    return [title, "", header, rule]
-
-
 def trapped(rows, policy: str) -> tuple[list[str], list[str]]:
     """Success smooth -> normal -> high per category ('' if a mode is missing), and the
     categories where `policy` falls into the trap."""
@@ -140,82 +136,68 @@ def figures(presets: dict, sweep: dict) -> dict:
 
 
 def trap_section(presets: dict) -> list[str]:
-    lines = heading(
-        "## Does the friction trap appear?",
-        "| kind/preset | policy | knob | finger pull | two-point | trap on |",
-        "|---|---|---|---|---|---|",
-    )
-    for name, rows in presets.items():
+    rows = []
+    for name, found in presets.items():
         for policy in FRICTION_BASED:
-            cells, trap = trapped(rows, policy)
+            cells, trap = trapped(found, policy)
             if any(cells):
-                lines.append(
-                    f"| {name} | {policy} | "
-                    + " | ".join(cells)
-                    + f" | {', '.join(trap) or 'none'} |"
-                )
-    return lines
+                rows.append([name, policy, *cells, ", ".join(trap) or "none"])
+    header = ["kind/preset", "policy", "knob", "finger pull", "two-point", "trap on"]
+    return ["## Does the friction trap appear?", "", *table(header, "llllll", rows)]
 
 
-def form_closure_section(presets: dict) -> list[str]:
-    lines = heading(
-        "## Form closure: hook_oracle in high resistance",
-        "| kind/preset | category | success | partial | fail | hook | lever | friction share |",
-        "|---|---|---:|---:|---:|---:|---:|---:|",
-    )
-    for name, rows in presets.items():
+def form_closure_section(presets: dict, cells: dict) -> list[str]:
+    """hook_oracle in high: each cell's rate with the Wilson interval of `figures()`."""
+    rows = []
+    for name in presets:
         for category in CATEGORIES:
-            c = cell(rows, "hook_oracle", category, "high")
+            c = cells.get(f"{name}/hook_oracle/{category}/high")
             if c:
-                n = int(c["episodes"])
-                lo, hi = wilson(round(c["success"] * n), n)
-                lines.append(
-                    f"| {name} | {category} | {c['success']:.2f} [{lo:.2f}, {hi:.2f}] | "
-                    f"{c['partial']:.2f} | "
-                    f"{c['fail']:.2f} | {c['strategy_hook']:.2f} | {c['strategy_lever']:.2f} | "
-                    f"{c['friction_share']:.2f} |"
-                )
-    return lines
+                rate, lo, hi = c["rate"]
+                rows.append([
+                    name, category, f"{rate:.2f} [{lo:.2f}, {hi:.2f}]", f"{c['partial']:.2f}",
+                    f"{c['fail']:.2f}", f"{c['hook']:.2f}", f"{c['lever']:.2f}",
+                    "–" if c["friction_share"] is None else f"{c['friction_share']:.2f}",
+                ])  # fmt: skip
+    header = ["kind/preset", "category", "success", "partial", "fail", "hook", "lever",
+              "friction share"]  # fmt: skip
+    return ["## Form closure: hook_oracle in high resistance", "",
+            *table(header, "llrrrrrr", rows)]  # fmt: skip
 
 
 def slip_section(presets: dict) -> list[str]:
-    lines = heading(
-        "## The slip condition, from the logged contact forces",
-        "| kind/preset | policy | category | mode | S | grip (N) | capacity (N) | peak pull (N) | "
-        "slip ratio | normal angle (deg) |",
-        "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
-    )
-    for name, rows in presets.items():
+    rows = []
+    for name, found in presets.items():
         for policy in FRICTION_BASED:
             for category in ("knob", "finger_pull"):
                 for mode in ("smooth", "high"):
-                    c = cell(rows, policy, category, mode)
+                    c = cell(found, policy, category, mode)
                     if c and c["grip_force"] == c["grip_force"]:  # not NaN
-                        lines.append(
-                            f"| {name} | {policy} | {category} | {mode} | {c['success']:.2f} | "
-                            f"{c['grip_force']:.1f} | {2 * MU * c['grip_force']:.1f} | "
-                            f"{c['peak_pull']:.1f} | {c['peak_slip_ratio']:.2f} | "
-                            f"{c['normal_angle_deg']:.0f} |"
-                        )
-    return lines
+                        rows.append([
+                            name, policy, category, mode, f"{c['success']:.2f}",
+                            f"{c['grip_force']:.1f}", f"{2 * MU * c['grip_force']:.1f}",
+                            f"{c['peak_pull']:.1f}", f"{c['peak_slip_ratio']:.2f}",
+                            f"{c['normal_angle_deg']:.0f}",
+                        ])  # fmt: skip
+    header = ["kind/preset", "policy", "category", "mode", "S", "grip (N)", "capacity (N)",
+              "peak pull (N)", "slip ratio", "normal angle (deg)"]  # fmt: skip
+    return ["## The slip condition, from the logged contact forces", "",
+            *table(header, "llllrrrrrr", rows)]  # fmt: skip
 
 
 def sweep_section(sweep: dict) -> list[str]:
-    lines = heading(
-        "## Where the trap appears: the grip force",
-        "| grip per jaw | knob | slip ratio (high) | finger pull | slip ratio (high) |",
-        "|---|---|---:|---|---:|",
-    )
-    for name, rows in sweep.items():
+    rows = []
+    for name, found in sweep.items():
         cells = []
         for category in ("knob", "finger_pull"):
-            found = [cell(rows, "heuristic_pull", category, m) for m in MODES]
-            cells.append(" -> ".join(f"{c['success']:.2f}" for c in found))
-            ratio = found[2]["peak_slip_ratio"]
+            modes = [cell(found, "heuristic_pull", category, m) for m in MODES]
+            cells.append(" -> ".join(f"{c['success']:.2f}" for c in modes))
+            ratio = modes[2]["peak_slip_ratio"]
             cells.append(f"{ratio:.2f}" if ratio == ratio else "no pull")
         force = name.rsplit("_", 1)[-1].removesuffix("N")
-        lines.append(f"| {force} N | " + " | ".join(cells) + " |")
-    return lines
+        rows.append([f"{force} N", *cells])
+    header = ["grip per jaw", "knob", "slip ratio (high)", "finger pull", "slip ratio (high)"]
+    return ["## Where the trap appears: the grip force", "", *table(header, "llrlr", rows)]
 
 
 def main() -> None:
@@ -235,10 +217,11 @@ def main() -> None:
         "",
         "![success](success.png)",
     ]
-    sections = [header, trap_section(presets), form_closure_section(presets)]
+    found = figures(presets, sweep)
+    sections = [header, trap_section(presets), form_closure_section(presets, found["cells"])]
     sections += [slip_section(presets)] + ([sweep_section(sweep)] if sweep else [])
     plot(presets, RESULTS / "success.png")
-    data = json.dumps(figures(presets, sweep), indent=1, allow_nan=False)
+    data = json.dumps(found, indent=1, allow_nan=False)
     atomic_write_text(RESULTS / "figures.json", data + "\n")
     atomic_write_text(RESULTS / "report.md", "\n\n".join("\n".join(s) for s in sections) + "\n")
     print(f"wrote {RESULTS / 'report.md'} and figures.json")
