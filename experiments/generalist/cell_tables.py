@@ -6,6 +6,7 @@ from __future__ import annotations
 from realikea.assets.catalog import CATEGORIES
 from realikea.eval.library_grid import KINDS, cell_count
 from realikea.eval.stats import diff_interval, significant, wilson
+from realikea.reports.markdown import table
 from realikea.sim.resistance import MODES
 
 
@@ -30,35 +31,27 @@ def success_table(cells: dict) -> str:
     """Success per kind x category under each mode (Wilson 95 %), the partial openings and the
     most frequent strategy and failure mode in high ('–' for cells evaluated before the failure
     modes existed, or with no failure)."""
-    lines = [
-        "| kind | category | " + " | ".join(f"{m} S [95 %]" for m in MODES)
-        + " | partial (high) | strategy (high) | failure mode (high) |",
-        "|---|---|" + "---|" * (len(MODES) + 3),
-    ]  # fmt: skip
+    rows = []
     for kind in KINDS:
         for category in CATEGORIES:
             row = [cells.get((kind, category, m)) for m in MODES]
             if not any(row):
                 continue
             high = row[-1]
-            partial = f"{high['partial']:.2f}" if high else "–"
-            lines.append(
-                f"| {kind} | {category} | " + " | ".join(_rate(r) for r in row)
-                + f" | {partial} | {_top_label(high, 'strategies')}"
-                + f" | {_top_label(high, 'failure_modes')} |"
-            )  # fmt: skip
-    return "\n".join(lines) + "\n"
+            rows.append([
+                kind, category, *(_rate(r) for r in row),
+                f"{high['partial']:.2f}" if high else "–",
+                _top_label(high, "strategies"), _top_label(high, "failure_modes"),
+            ])  # fmt: skip
+    header = ["kind", "category", *(f"{m} S [95 %]" for m in MODES), "partial (high)",
+              "strategy (high)", "failure mode (high)"]  # fmt: skip
+    return "\n".join(table(header, "l" * len(header), rows)) + "\n"
 
 
 def difference_markdown(cells: dict, other: dict, names=("CoACD", "hull")) -> str:
     """Both successes and their difference (Newcombe 95 %) per kind x category in each mode."""
     a, b = names
-    lines = [
-        f"{a} − {b}, success difference per cell with Newcombe's 95 % interval:",
-        "",
-        "| kind | category | " + " | ".join(f"{m}: {a} / {b}, diff" for m in MODES) + " |",
-        "|---|---|" + "---|" * len(MODES),
-    ]
+    rows = []
     for kind in KINDS:
         for category in CATEGORIES:
             values = []
@@ -75,5 +68,7 @@ def difference_markdown(cells: dict, other: dict, names=("CoACD", "hull")) -> st
                     f"[{lo:+.2f}, {hi:+.2f}]{mark}"
                 )
             if any(v != "–" for v in values):
-                lines.append(f"| {kind} | {category} | " + " | ".join(values) + " |")
-    return "\n".join(lines) + "\n"
+                rows.append([kind, category, *values])
+    header = ["kind", "category", *(f"{m}: {a} / {b}, diff" for m in MODES)]
+    intro = [f"{a} − {b}, success difference per cell with Newcombe's 95 % interval:", ""]
+    return "\n".join(intro + table(header, "l" * len(header), rows)) + "\n"

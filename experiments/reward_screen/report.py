@@ -31,6 +31,7 @@ from realikea.reports.fidelity_ablation.runs import (  # noqa: E402
     iterations_to_success,
     trailing_mean,
 )
+from realikea.reports.markdown import table  # noqa: E402
 from realikea.training.metrics import read_metrics  # noqa: E402
 
 NAME = re.compile(r"(?P<recipe>.+)_(?P<collision>coacd|hull)_(?P<cell>.+)_s(?P<seed>\d+)$")
@@ -66,17 +67,12 @@ def end_stage(run: dict) -> str:
     return ", ".join(f"{k}: {v:.2f}" for k, v in sorted(shares.items(), key=lambda kv: -kv[1]))
 
 
-def table(runs: list[dict]) -> str:
+def runs_table(runs: list[dict]) -> str:
     """One row per recipe x cell x collision source; one line per run that did not learn."""
     cells = defaultdict(list)
     for run in runs:
         cells[run["recipe"], run["cell"], run["collision"]].append(run)
-    lines = [
-        "| recipe | cell | collision | learned / run | iteration to 50 % (each seed) | "
-        "training success, last 20 its (each seed) | minutes a run |",
-        "|---|---|---|---:|---|---|---:|",
-    ]
-    stuck = []
+    rows, stuck = [], []
     for (recipe, cell, collision), group in sorted(cells.items()):
         group.sort(key=lambda r: r["seed"])
         reached = [iterations_to_success(r) for r in group]
@@ -85,13 +81,16 @@ def table(runs: list[dict]) -> str:
                         zip(group, reached, strict=True))  # fmt: skip
         final = ", ".join(f"{tail_mean(r, '/episode/success') or 0:.2f}" for r in group)
         minutes = np.mean([r["minutes"] for r in group])
-        lines.append(f"| {recipe} | {cell} | {collision} | {learned} / {len(group)} | {its} | "
-                     f"{final} | {minutes:.0f} |")  # fmt: skip
+        rows.append([recipe, cell, collision, f"{learned} / {len(group)}", its, final,
+                     f"{minutes:.0f}"])  # fmt: skip
         for run, x in zip(group, reached, strict=True):
             if x is None:
                 opening = tail_mean(run, "/episode/opening") or 0.0
                 stuck.append(f"- {run['path'].name}: end stage {end_stage(run)}; "
                              f"opening {opening:.3f}")  # fmt: skip
+    header = ["recipe", "cell", "collision", "learned / run", "iteration to 50 % (each seed)",
+              "training success, last 20 its (each seed)", "minutes a run"]  # fmt: skip
+    lines = table(header, "lllrllr", rows)
     out = "\n".join(lines) + "\n"
     if stuck:
         out += "\nRuns that did not learn (shares of episodes by end stage, mean opening):\n\n"
@@ -173,10 +172,10 @@ def main() -> None:
     runs = load_runs(args.runs)
     if not runs:
         parser.error(f"--runs {args.runs}: no kept run in it")
-    atomic_write_text(args.out / "table.md", table(runs))
+    atomic_write_text(args.out / "table.md", runs_table(runs))
     atomic_write_text(args.out / "figures.json", json.dumps(figures(runs), indent=1) + "\n")
     plot(runs, args.out / "learning_curves.png")
-    print(table(runs))
+    print(runs_table(runs))
     print(f"wrote {args.out / 'table.md'}, figures.json and {args.out / 'learning_curves.png'} "
           f"({len(runs)} runs, {sum(r['minutes'] for r in runs) / 60:.1f} h)")  # fmt: skip
 
