@@ -11,19 +11,24 @@ from realikea.interop.sample import UNIT
 from realikea.reports.markdown import table
 
 
-def _q(value: float, joint_type: str) -> str:
-    """An opening with its unit."""
+def opening(value: float, joint_type: str) -> str:
+    """An opening with its unit (the SAPIEN check's table too)."""
     value = value if abs(value) >= 5e-5 else 0.0  # no "-0.0000"
     return f"{value:.4f} {UNIT[joint_type]}"
 
 
-def _pct(value: float | None) -> str:
+def percent(value: float | None) -> str:
     """A relative difference in percent, or a dash where there is none."""
     return "–" if value is None else f"{100 * value:.2f} %"
 
 
 def _section(title: str, header: list[str], align: str, rows: list[list[str]]) -> list[str]:
     return [f"## {title}", "", *table(header, align, rows), ""]
+
+
+def _against(value: float, difference: float, joint_type: str) -> str:
+    """An opening and its relative difference from MuJoCo's."""
+    return f"{opening(value, joint_type)} = {percent(difference)}"
 
 
 def _verdict(passed: bool) -> str:
@@ -36,11 +41,11 @@ def pull_rows(pulls: list[Pull]) -> list[list[str]]:
         r, jtype = p.result, p.joint_type
         rows.append([
             p.config_id, p.kind, p.category, p.mode, f"{p.multiple:g}× = {p.force:.2f} N",
-            _q(r.mujoco, jtype) + " (stop)" * p.mujoco_stop,
-            _q(r.pybullet, jtype) + " (stop)" * p.pybullet_stop,
-            _pct(r.difference),
-            f"{r.compare_time:.3f} s: {_q(r.mujoco_then, jtype)} / "
-            f"{_q(r.pybullet_then, jtype)} = {_pct(r.difference_then)}",
+            opening(r.mujoco, jtype) + " (stop)" * p.mujoco_stop,
+            opening(r.pybullet, jtype) + " (stop)" * p.pybullet_stop,
+            percent(r.difference),
+            f"{r.compare_time:.3f} s: {opening(r.mujoco_then, jtype)} / "
+            f"{opening(r.pybullet_then, jtype)} = {percent(r.difference_then)}",
             f"{r.mujoco_moved} / {r.pybullet_moved}", _verdict(r.passed),
         ])  # fmt: skip
     return rows
@@ -87,7 +92,7 @@ def unexpressed_sections(found: Unexpressed, clearances: list[Clearance]) -> lis
             ["configuration", "pull", "MuJoCo", "PyBullet, emulated", "PyBullet, default motor",
              "PyBullet, friction ignored"],
             "llrrrr",
-            [[cid, f"{multiple:g}×", *(_q(v, jtype) for v in models)]
+            [[cid, f"{multiple:g}×", *(opening(v, jtype) for v in models)]
              for cid, jtype, multiple, models in found.friction],
         ),
         *_section(
@@ -95,17 +100,17 @@ def unexpressed_sections(found: Unexpressed, clearances: list[Clearance]) -> lis
             ["configuration", "URDF damping, after 1 s", "by hand, after 1 s", "difference",
              "no damping, after 1 s"],
             "lrrrr",
-            [[d.config_id, _q(d.by_urdf, d.joint_type), _q(d.by_hand, d.joint_type),
-              _pct(d.difference), _q(d.undamped, d.joint_type)] for d in found.damping],
+            [[d.config_id, opening(d.by_urdf, d.joint_type), opening(d.by_hand, d.joint_type),
+              percent(d.difference), opening(d.undamped, d.joint_type)] for d in found.damping],
         ),
         *_section(
             "Body damping: openings at 1.2× breakaway before the stop",
             ["configuration", "t", "MuJoCo", "PyBullet, body damping 0 (used)",
              f"PyBullet, body damping {body} (PyBullet's default)"],
             "lrrrr",
-            [[d.config_id, f"{d.then:.3f} s", _q(d.mujoco_then, d.joint_type),
-              f"{_q(d.undamped_body_then, d.joint_type)} = {_pct(d.undamped_body_difference)}",
-              f"{_q(d.damped_body_then, d.joint_type)} = {_pct(d.damped_body_difference)}"]
+            [[d.config_id, f"{d.then:.3f} s", opening(d.mujoco_then, d.joint_type),
+              _against(d.undamped_body_then, d.undamped_body_difference, d.joint_type),
+              _against(d.damped_body_then, d.damped_body_difference, d.joint_type)]
              for d in found.damping],
         ),
         *_section(
@@ -113,20 +118,20 @@ def unexpressed_sections(found: Unexpressed, clearances: list[Clearance]) -> lis
             ["configuration", "t", "PyBullet vs MuJoCo at 2 ms", f"at {fine}",
              f"MuJoCo 2 ms vs {fine}", f"PyBullet 2 ms vs {fine}"],
             "lrrrrr",
-            [[s.config_id, f"{s.then:.3f} s", _pct(s.coarse), _pct(s.fine), _pct(s.mujoco),
-              _pct(s.pybullet)] for s in found.steps],
+            [[s.config_id, f"{s.then:.3f} s", percent(s.coarse), percent(s.fine), percent(s.mujoco),
+              percent(s.pybullet)] for s in found.steps],
         ),
         *_section(
             "Creep below breakaway: opening after 1 s at 0.5×",
             ["configuration", "MuJoCo", "PyBullet"], "lrr",
-            [[c.config_id, _q(c.mujoco, c.joint_type), _q(c.pybullet, c.joint_type)]
+            [[c.config_id, opening(c.mujoco, c.joint_type), opening(c.pybullet, c.joint_type)]
              for c in found.creep],
         ),
         *_section(
             "Joint limits: largest excursion past the upper limit under a 2× pull",
             ["configuration", "upper limit", "MuJoCo past it", "PyBullet past it"], "lrrr",
-            [[e.config_id, _q(e.upper, e.joint_type), _q(e.mujoco, e.joint_type),
-              _q(e.pybullet, e.joint_type)] for e in found.limits],
+            [[e.config_id, opening(e.upper, e.joint_type), opening(e.mujoco, e.joint_type),
+              opening(e.pybullet, e.joint_type)] for e in found.limits],
         ),
         *_section(
             "Contacts: the probe centred under the bar, distance to the pieces (CoACD)",

@@ -1,4 +1,5 @@
-"""The exported URDFs in SAPIEN against the exported MJCFs in MuJoCo; writes results/sapien.md.
+"""The exported URDFs in SAPIEN against the exported MJCFs in MuJoCo; writes results/sapien.md
+(the table) and results/sapien_figures.json (the figures the README quotes).
 
     pip install -e '.[interop]'   # SAPIEN 3.0.3, an extra: not needed by the rest of the project
     nice -n 10 python experiments/interop/sapien_check.py [--work DIR] [--out FILE]
@@ -21,6 +22,7 @@ default linear and angular damping (PhysX's 0.05) to 0, since the MJCF has none.
 
 from __future__ import annotations
 
+import json
 import re
 import sys
 import tempfile
@@ -28,27 +30,30 @@ import time
 import warnings
 from importlib.metadata import version
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
+from parity_report import opening, percent
 
 from realikea.export.metadata import PART_LINK
 from realikea.export.model import read_articulation
-from realikea.files import repo_path
-from realikea.interop.parity import SECONDS, compare_pull
+from realikea.files import atomic_write_text, repo_path
+from realikea.interop.parity import SECONDS, PullParity, compare_pull
 from realikea.interop.pull import Trajectory, mujoco_pull, opening_direction
 from realikea.interop.sample import (
     MULTIPLES,
     SAMPLE_MODES,
-    UNIT,
     Prepared,
     prepare,
     sample_arguments,
     sample_context,
 )
+from realikea.reports.markdown import table
 
 DEFAULT_OUT = repo_path("experiments/interop/results/sapien.md")
 BIG = 1e5  # drive damping of the emulated friction (N s/m, N m s/rad): a stiff velocity hold
 MODELS = ("emulated", "as loaded")
+COMMAND = "nice -n 10 python experiments/interop/sapien_check.py"
 
 
 def sapien_pull(item: Prepared, force: float, model: str, timestep: float) -> Trajectory:
@@ -96,99 +101,108 @@ def sapien_pull(item: Prepared, force: float, model: str, timestep: float) -> Tr
     return Trajectory(timestep, q)
 
 
-def _q(value: float, joint_type: str) -> str:
-    """An opening with its unit."""
-    return f"{value:.4f} {UNIT[joint_type]}"
+class SapienPull(NamedTuple):
+    """One pull in MuJoCo and in SAPIEN, the friction emulated (`result`) and as loaded."""
+
+    config_id: str
+    mode: str
+    kind: str
+    joint_type: str
+    multiple: float
+    force: float
+    result: PullParity
+    loaded: PullParity
 
 
-def _pct(value: float | None) -> str:
-    """A relative difference in per cent, or a dash where there is none."""
-    return "–" if value is None else f"{100 * value:.2f} %"
-
-
-def rows(prepared: dict) -> tuple[list[str], int, int, dict[str, float], int]:
-    """Table rows of every pull, the passes, the total, the largest difference per kind
-    (emulated, before the stop) and how many pulls as loaded miss the expected verdict."""
-    lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
+def pulls(prepared: dict) -> list[SapienPull]:
+    """Every prepared configuration pulled at each multiple of its breakaway force."""
+    found = []
     for item in prepared.values():
         joint = item.joint
         for multiple in MULTIPLES:
             force = multiple * item.breakaway
             reference = mujoco_pull(item.mjcf, force, SECONDS)
             expected = "still" if multiple < 1 else "opens"
-            runs = {m: sapien_pull(item, force, m, reference.timestep) for m in MODELS}
-            result = compare_pull(
-                reference, runs["emulated"], joint["type"], joint["range"][1], expected
-            )
-            loaded = compare_pull(
-                reference, runs["as loaded"], joint["type"], joint["range"][1], expected
-            )
-            ok = result.passed
-            loaded_wrong += loaded.pybullet_moved != expected
-            passed, total = passed + ok, total + 1
-            kind = item.config.base.kind
-            if result.difference_then is not None:
-                worst[kind] = max(worst.get(kind, 0.0), result.difference_then)
-            lines.append(
-                f"| {item.config.id} | {item.mode} | {multiple:g}× = {force:.2f} N | "
-                f"{_q(result.mujoco, joint['type'])} | {_q(result.pybullet, joint['type'])} | "
-                f"{result.compare_time:.3f} s: {_pct(result.difference_then)} | "
-                f"{result.mujoco_moved} / {result.pybullet_moved} | "
-                f"{_q(loaded.pybullet, joint['type'])} ({loaded.pybullet_moved}) | "
-                f"{'pass' if ok else 'FAIL'} |"
-            )
-    return lines, passed, total, worst, loaded_wrong
+            compared = {
+                m: compare_pull(
+                    reference, sapien_pull(item, force, m, reference.timestep), joint["type"],
+                    joint["range"][1], expected,
+                )
+                for m in MODELS
+            }  # fmt: skip
+            found.append(
+                SapienPull(item.config.id, item.mode, item.config.base.kind, joint["type"],
+                           multiple, force, compared["emulated"], compared["as loaded"])
+            )  # fmt: skip
+    return found
 
 
-def render(lines, passed, total, worst, loaded_wrong, command, cost) -> str:
-    """The report."""
-    head = (
-        "| configuration | mode | pull | MuJoCo after 1 s | SAPIEN emulated after 1 s | "
-        "before the stop: t, difference | verdicts MuJoCo / SAPIEN emulated | "
-        "SAPIEN as loaded after 1 s | result |\n|---|---|---|---:|---:|---|---|---:|---|"
-    )
-    largest = ", ".join(f"{kind} {100 * v:.2f} %" for kind, v in worst.items())
-    return f"""# The exported URDF in SAPIEN against MuJoCo: the pulls
+def report(found: list[SapienPull], provenance: str) -> str:
+    """results/sapien.md: the table, under the line that says how it was made."""
+    rows = [
+        [
+            p.config_id, p.mode, f"{p.multiple:g}× = {p.force:.2f} N",
+            opening(p.result.mujoco, p.joint_type), opening(p.result.pybullet, p.joint_type),
+            f"{p.result.compare_time:.3f} s: {percent(p.result.difference_then)}",
+            f"{p.result.mujoco_moved} / {p.result.pybullet_moved}",
+            f"{opening(p.loaded.pybullet, p.joint_type)} ({p.loaded.pybullet_moved})",
+            "pass" if p.result.passed else "FAIL",
+        ]
+        for p in found
+    ]  # fmt: skip
+    header = ["configuration", "mode", "pull", "MuJoCo after 1 s", "SAPIEN emulated after 1 s",
+              "before the stop: t, difference", "verdicts MuJoCo / SAPIEN emulated",
+              "SAPIEN as loaded after 1 s", "result"]  # fmt: skip
+    lines = [
+        "# The exported URDF in SAPIEN against MuJoCo: the pulls",
+        "",
+        f"{provenance} Method and reading: [the study's README](../README.md).",
+        "",
+        *table(header, "lllrrllrl", rows),
+    ]
+    return "\n".join(lines) + "\n"
 
-Written by `{command}` ({cost}); SAPIEN {version("sapien")} (CPU PhysX, no renderer), MuJoCo
-{version("mujoco")}. Method and reading: [the study's README](../README.md).
 
-Verdicts and pass criteria as in [pybullet.md](pybullet.md): still = moved less than 1 mm / 2 mrad;
-opens = at least the task's partial opening; pass = both give the expected verdict (0.5× still,
-1.2× and 2× open) and, where the front moves, the openings agree within 10 % (after 1 s, or
-before MuJoCo's front reaches half its range).
-
-{head}
-{chr(10).join(lines)}
-
-**{passed} of {total} pulls pass with the friction emulated.** Largest relative difference of
-the openings before the stop: {largest}. As loaded (last column), {loaded_wrong} of {total} pulls
-miss the expected verdict.
-"""
+def figures(found: list[SapienPull], made: dict) -> dict:
+    """How many pulls pass (emulated), the largest difference before the stop per kind, and how
+    many pulls as loaded miss the expected verdict."""
+    moving = [p for p in found if p.result.difference_then is not None]
+    return {
+        **made,
+        "passed": sum(p.result.passed for p in found),
+        "total": len(found),
+        "largest_before_stop": {
+            kind: max(p.result.difference_then for p in moving if p.kind == kind)
+            for kind in dict.fromkeys(p.kind for p in moving)
+        },
+        "loaded_missed": sum(p.loaded.pybullet_moved != p.loaded.expected for p in found),
+    }
 
 
 def main(argv=None) -> int:
-    """Build and export the sample, pull it in both simulators and write the report."""
+    """Build and export the sample, pull it in both simulators and write the table and figures."""
     warnings.filterwarnings("ignore", module="sapien")
     args = sample_arguments(__doc__.split("\n\n")[0], DEFAULT_OUT, argv)
     start, cpu = time.perf_counter(), time.process_time()
     settings, cache_root, _, sample = sample_context()
-    lines, passed, total, worst, loaded_wrong = [], 0, 0, {}, 0
+    found = []
     with tempfile.TemporaryDirectory(prefix="realikea_sapien_") as scratch:
         work = args.work or Path(scratch)
         for mode in SAMPLE_MODES:
-            prepared = prepare(sample, mode, ("coacd",), work, settings, cache_root)
-            mode_lines, mode_passed, mode_total, mode_worst, mode_wrong = rows(prepared)
-            lines += mode_lines
-            loaded_wrong += mode_wrong
-            passed, total = passed + mode_passed, total + mode_total
-            for kind, value in mode_worst.items():
-                worst[kind] = max(worst.get(kind, 0.0), value)
-    cost = f"{time.perf_counter() - start:.0f} s wall, {time.process_time() - cpu:.0f} s CPU"
-    command = "nice -n 10 python experiments/interop/sapien_check.py"
-    args.out.write_text(render(lines, passed, total, worst, loaded_wrong, command, cost))
-    print(f"wrote {args.out}: {passed} of {total} pulls pass ({cost})")
-    return 0 if passed == total else 1
+            found += pulls(prepare(sample, mode, ("coacd",), work, settings, cache_root))
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+    versions = {"sapien": version("sapien"), "mujoco": version("mujoco")}
+    provenance = (
+        f"Written by `{COMMAND}` ({wall:.0f} s wall, {cpu:.0f} s CPU); SAPIEN "
+        f"{versions['sapien']} (CPU PhysX, no renderer), MuJoCo {versions['mujoco']}."
+    )
+    made = {"command": COMMAND, "versions": versions, "wall_s": wall, "cpu_s": cpu}
+    data = figures(found, made)
+    atomic_write_text(args.out, report(found, provenance))
+    figures_path = args.out.with_name(args.out.stem + "_figures.json")
+    atomic_write_text(figures_path, json.dumps(data, indent=2, allow_nan=False) + "\n")
+    print(f"wrote {args.out}: {data['passed']} of {data['total']} pulls pass ({wall:.0f} s wall)")
+    return 0 if data["passed"] == data["total"] else 1
 
 
 if __name__ == "__main__":
