@@ -24,6 +24,7 @@ from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count
 from realikea.files import shown_path
 from realikea.policies.registry import POLICIES
+from realikea.reports.markdown import table
 from realikea.reports.multiplicity import Difference
 from realikea.sim.resistance import mode
 
@@ -185,16 +186,9 @@ def boundary_force(mu: float, pull: float) -> float:
 def _grid_table(title: str, forces, frictions, entry) -> list[str]:
     """Markdown: `title`, then force down (strongest first) x friction across, each cell
     `entry(force, mu)`."""
-    lines = [
-        title,
-        "",
-        "| grip per jaw | " + " | ".join(f"μ = {mu:g}" for mu in frictions) + " |",
-        "|---|" + "---:|" * len(frictions),
-    ]
-    for force in reversed(forces):
-        row = " | ".join(entry(force, mu) for mu in frictions)
-        lines.append(f"| {force:g} N | {row} |")
-    return [*lines, ""]
+    header = ["grip per jaw", *(f"μ = {mu:g}" for mu in frictions)]
+    rows = [[f"{force:g} N", *(entry(force, mu) for mu in frictions)] for force in reversed(forces)]
+    return [title, "", *table(header, "l" + "r" * len(frictions), rows), ""]
 
 
 def phase_table(cells: dict[tuple, dict], pull: float) -> list[str]:
