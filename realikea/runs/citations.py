@@ -4,10 +4,10 @@ A checkpoint `<study>/results/.../<run>/model_<N>.pt` is cited by a text file (M
 shell, JSON, YAML, CSV; never a run's Hydra record or its `metrics.csv`) that
 
 1. names it by path, from the repository's root or from its study's folder, or by a pattern
-   that matches it, where `*`, `<name>` and `${name}` stand for any part of one path segment
+   that matches it, where `*`, `<name>` and `${name}` stand for any text
    (`results/runs/${collision}_high_s${seed}/model_499.pt`);
 2. lies in its own run folder (an `eval.json`, a sweep, frames' index) and names its file
-   (`"checkpoint": "model_899.pt"`) or its iteration (`"iteration": 900`);
+   (`"checkpoint": "model_899.pt"`) or its iteration (a sweep's `"iteration": 899`);
 3. names, on one line, both its run folder and its file: a results table's row
    (`| gated_hull_knob_high_s0 | model_250.pt | ...`).
 """
@@ -20,7 +20,7 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 
 TEXT_SUFFIXES = (".md", ".py", ".sh", ".json", ".jsonl", ".yaml", ".yml", ".csv", ".txt", ".toml")
-SKIPPED_DIRS = {".git", ".hydra", ".venv", "outputs", "__pycache__", "node_modules"}
+SKIPPED_DIRS = {".git", ".hydra", ".venv", ".cache", "outputs", "__pycache__", "node_modules"}
 SKIPPED_FILES = {"metrics.csv"}  # training logs: numbers, never a citation
 
 # a path-like token ending in .pt; <...> and ${...} placeholders are kept whole
