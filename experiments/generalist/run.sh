@@ -2,7 +2,7 @@
 # The generalist, end to end: train with the defaults (CoACD) and the same recipe on the hull,
 # keep the slim checkpoints and curves, evaluate both on the held-out parts over
 # kind x category x resistance mode, write table.md, and record frames.
-# Session 6 ran the two trainings side by side on the 2 cores (each ~1 h 35 min beside other
+# The two trainings ran side by side on the 2 cores (each ~1 h 35 min beside other
 # jobs); a stopped training continues with `python train.py train.resume=RUN/model_<it>.pt ...`
 # and the grid evaluation skips the cells already in <name>/cells.jsonl.
 # Usage: bash experiments/generalist/run.sh [EPISODES]   (default 50 episodes a cell)
