@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from realikea.files import WORKSPACE
+from realikea.reports.markdown import table
 from realikea.runs.citations import citations
 from realikea.runs.manifest import study_checkpoints, write_manifest
 
@@ -27,11 +28,12 @@ def main() -> int:
     found = {s: study_checkpoints(s) for s in studies}
     cited = citations(WORKSPACE, [p for paths in found.values() for p in paths])
     uncited = [p for p, by in cited.items() if not by]
-    print("| study | checkpoints | MB | uncited |\n|---|---:|---:|---:|")
-    for study, paths in found.items():
-        megabytes = sum(p.stat().st_size for p in paths) / 1e6
-        print(f"| {study.name} | {len(paths)} | {megabytes:.1f} | "
-              f"{sum(p in uncited for p in paths)} |")  # fmt: skip
+    rows = [
+        [study.name, str(len(paths)), f"{sum(p.stat().st_size for p in paths) / 1e6:.1f}",
+         str(sum(p in uncited for p in paths))]
+        for study, paths in found.items()
+    ]  # fmt: skip
+    print("\n".join(table(["study", "checkpoints", "MB", "uncited"], "lrrr", rows)))
     for path in uncited:
         print(f"uncited: {path.relative_to(WORKSPACE)}")
     if args.prune:
