@@ -1,5 +1,5 @@
 """The generalist's tables from the grids `evaluate.py` wrote:
-experiments/generalist/results/table.md.
+experiments/generalist/results/table.md, and their pooled rates in results/figures.json.
 
     python experiments/generalist/report.py
 
@@ -15,12 +15,13 @@ all cells pooled (the comparisons named before those runs); the door specialists
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from cell_tables import difference_markdown, success_table
 
 from realikea.eval.library_grid import KINDS, pooled, read_cells
-from realikea.eval.stats import describe, diff_interval, significant
+from realikea.eval.stats import describe, diff_interval, significant, wilson
 from realikea.files import atomic_write_text
 from realikea.reports.multiplicity import Difference, holm_lines
 from realikea.sim.resistance import MODES
@@ -140,6 +141,26 @@ def comparison_lines(a: dict, b: dict, title: str, names: tuple[str, str]) -> li
     return [*lines, ""]
 
 
+def figures(grids: dict[str, dict]) -> dict:
+    """Per grid and mode, every cell pooled and each kind pooled: successes, episodes and the
+    rate with its Wilson interval (what the READMEs quote by key)."""
+
+    def rate(k: int, n: int) -> dict:
+        return {"successes": k, "episodes": n, "rate": [k / n, *wilson(k, n)]}
+
+    out: dict = {}
+    for name, cells in grids.items():
+        for mode in MODES:
+            k, n = pooled(cells, mode)
+            if n:
+                kinds = {kind: pooled(cells, mode, kind) for kind in KINDS}
+                out.setdefault(name, {})[mode] = {
+                    "all": rate(k, n),
+                    **{kind: rate(*kn) for kind, kn in kinds.items() if kn[1]},
+                }
+    return out
+
+
 def main() -> None:
     grids = {name: read_cells(RESULTS / name / "cells.jsonl") for name in GRIDS}
     grids = {name: cells for name, cells in grids.items() if cells}
@@ -168,6 +189,7 @@ def main() -> None:
     for family in KIND_FAMILIES:
         lines += kind_family_lines(grids, *family)
     atomic_write_text(RESULTS / "table.md", "\n".join(lines))
+    atomic_write_text(RESULTS / "figures.json", json.dumps(figures(grids), indent=1) + "\n")
     print("\n".join(lines))
 
 
