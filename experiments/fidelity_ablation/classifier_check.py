@@ -30,6 +30,7 @@ from realikea.assets.library import training_configurations
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import wilson
 from realikea.files import atomic_write_text
+from realikea.reports.markdown import table
 from realikea.tasks.contacts import STRATEGIES
 
 HERE = Path(__file__).resolve().parent
@@ -102,15 +103,13 @@ def share(k: int, n: int) -> str:
 
 
 def matrix_table(matrix: dict[str, dict[str, int]]) -> list[str]:
-    lines = [
-        "| built \\ label | " + " | ".join(STRATEGIES) + " | as built [95 %] |",
-        "|---|" + "---:|" * len(STRATEGIES) + "---|",
+    rows = [
+        [b, *(str(matrix[b][s]) for s in STRATEGIES), share(*as_built(matrix, (b,)))]
+        for b in BUILT
+        if sum(matrix[b].values())
     ]
-    for b in BUILT:
-        if sum(matrix[b].values()):
-            cells = " | ".join(str(matrix[b][s]) for s in STRATEGIES)
-            lines.append(f"| {b} | {cells} | {share(*as_built(matrix, (b,)))} |")
-    return lines
+    header = ["built \\ label", *STRATEGIES, "as built [95 %]"]
+    return table(header, "l" + "r" * len(STRATEGIES) + "l", rows)
 
 
 def groups(records: list[dict]) -> dict[str, list[dict]]:
@@ -136,16 +135,16 @@ def counts(records: list[dict]) -> dict:
 
 
 def cell_lines(records: list[dict]) -> list[str]:
-    lines = ["| policy | category | episodes | success | no plan | labels (all episodes) |",
-             "|---|---|---:|---:|---:|---|"]  # fmt: skip
+    rows = []
     for p in POLICIES:
         for c in CATEGORIES:
             rs = [r for r in records if r["policy"] == p and r["category"] == c]
             won = sum(r["outcome"] == "success" for r in rs)
             labels = ", ".join(f"{k} {v}" for k, v in Counter(r["label"] for r in rs).items())
             no_plan = sum("note" in r for r in rs)
-            lines.append(f"| {p} | {c} | {len(rs)} | {won} | {no_plan} | {labels} |")
-    return lines
+            rows.append([p, c, str(len(rs)), str(won), str(no_plan), labels])
+    header = ["policy", "category", "episodes", "success", "no plan", "labels (all episodes)"]
+    return table(header, "llrrrl", rows)
 
 
 def report(records: list[dict], header: list[str]) -> str:
