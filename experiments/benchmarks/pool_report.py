@@ -74,20 +74,34 @@ def figures(m: Measured) -> dict:
 
 
 def _rates(f: dict) -> list[str]:
-    return [
-        "## Control steps per second",
-        "",
-        "| envs | steps × best of | pool | physics limit | AsyncVectorEnv | pool / physics | "
-        "pool / Async | contacts per env | replay max abs dstate | startup pool / Async (s) |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
-        *(
-            f"| {r['envs']} | {r['steps']} × {r['best_of']} | {r['pool']:.0f} | {r['limit']:.0f} "
-            f"| {r['vec']:.0f} | {r['pool_over_limit']:.2f} | {r['pool_over_async']:.2f} "
-            f"| {r['contacts']:.1f} | {r['deviation']:.1e} "
-            f"| {r['pool_start']:.1f} / {r['vec_start']:.1f} |"
-            for r in f["rates"]
-        ),
-    ]  # fmt: skip
+    header = [
+        "envs",
+        "steps × best of",
+        "pool",
+        "physics limit",
+        "AsyncVectorEnv",
+        "pool / physics",
+        "pool / Async",
+        "contacts per env",
+        "replay max abs dstate",
+        "startup pool / Async (s)",
+    ]
+    rows = [
+        [
+            str(r["envs"]),
+            f"{r['steps']} × {r['best_of']}",
+            f"{r['pool']:.0f}",
+            f"{r['limit']:.0f}",
+            f"{r['vec']:.0f}",
+            f"{r['pool_over_limit']:.2f}",
+            f"{r['pool_over_async']:.2f}",
+            f"{r['contacts']:.1f}",
+            f"{r['deviation']:.1e}",
+            f"{r['pool_start']:.1f} / {r['vec_start']:.1f}",
+        ]
+        for r in f["rates"]
+    ]
+    return ["## Control steps per second", "", *table(header, "r" * len(header), rows)]  # fmt: skip
 
 
 def _targets(r: dict) -> list[str]:
@@ -113,59 +127,56 @@ def _profile(m: Measured, p: dict) -> list[str]:
             ["a worker's share of a core while stepping", f"{p['core_share']:.0%}"],
         ],
     )  # fmt: skip
-    lines += ["", "| part | ms per env-step | share |", "|---|---:|---:|"]
-    lines += [f"| {name} | {value:.3f} | {value / p['total_ms']:.0%} |" for name, value in m.parts]
-    lines += [f"| **total per env-step** | **{p['total_ms']:.3f}** | 100% |", ""]
-    return lines + [
-        "| derived | value |",
-        "|---|---:|",
-        f"| main process per pool step: wall | {p['wall_ms']:.1f} ms |",
-        f"| of which transfer (signalling, shared-memory copies, waiting beyond the slowest "
-        f"worker's compute) | {p['transfer_ms']:.2f} ms ({p['transfer_share']:.1%}) |",
-        f"| physics, share of the workers' CPU per env-step | {p['physics_share']:.0%} |",
-        f"| the pool's own cost (bookkeeping + transfer) | {p['own_share']:.1%} |",
-        f"| ceiling against raw `mj_step` on every core (physics share × (1 − transfer)) "
-        f"| {p['ceiling_mj_step']:.2f} |",
-        f"| rollout per physics step (CPU, it also records the state) / `mj_step` in the "
-        f"workers | {p['rollout_us']:.1f} / {p['mj_step_us']:.1f} µs = "
-        f"{p['rollout_over_mj_step']:.2f}× |",
-        f"| ceiling against the rollout limit | {p['ceiling_rollout']:.2f} |",
-    ]
+    parts = [[name, f"{value:.3f}", f"{value / p['total_ms']:.0%}"] for name, value in m.parts]
+    parts.append(["**total per env-step**", f"**{p['total_ms']:.3f}**", "100%"])
+    derived = [
+        ["main process per pool step: wall", f"{p['wall_ms']:.1f} ms"],
+        ["of which transfer (signalling, shared-memory copies, waiting beyond the slowest "
+         "worker's compute)", f"{p['transfer_ms']:.2f} ms ({p['transfer_share']:.1%})"],
+        ["physics, share of the workers' CPU per env-step", f"{p['physics_share']:.0%}"],
+        ["the pool's own cost (bookkeeping + transfer)", f"{p['own_share']:.1%}"],
+        ["ceiling against raw `mj_step` on every core (physics share × (1 − transfer))",
+         f"{p['ceiling_mj_step']:.2f}"],
+        ["rollout per physics step (CPU, it also records the state) / `mj_step` in the workers",
+         f"{p['rollout_us']:.1f} / {p['mj_step_us']:.1f} µs = {p['rollout_over_mj_step']:.2f}×"],
+        ["ceiling against the rollout limit", f"{p['ceiling_rollout']:.2f}"],
+    ]  # fmt: skip
+    return [*lines, "", *table(["part", "ms per env-step", "share"], "lrr", parts), "",
+            *table(["derived", "value"], "lr", derived)]  # fmt: skip
 
 
 def _design(m: Measured, d: dict) -> list[str]:
+    ratios = [
+        ["worker processes / serial loop", f"{d['workers_over_serial']:.2f}×"],
+        ["physics threaded through `mujoco.rollout`, the rest serial / serial loop",
+         f"{d['threaded_over_serial']:.2f}×"],
+        [f"ceiling on {m.cores} cores, everything but the pool's own cost in parallel",
+         f"{d['ceiling_all_parallel']:.2f}×"],
+        [f"ceiling on {m.cores} cores, only the physics in parallel",
+         f"{d['ceiling_physics_parallel']:.2f}×"],
+        [f"pure physics, {m.cores} threads / 1 thread, in this window",
+         f"{d['physics_threads_gain']:.2f}×"],
+    ]  # fmt: skip
     return [
         f"## Design check ({m.design_envs} envs, interleaved, best of {m.design_best_of})",
         "",
-        "| how | steps/s |",
-        "|---|---:|",
-        *(f"| {name} | {value:.0f} |" for name, value in d["rates"].items()),
+        *table(["how", "steps/s"], "lr", [[n, f"{v:.0f}"] for n, v in d["rates"].items()]),
         "",
-        "| ratio | value |",
-        "|---|---:|",
-        f"| worker processes / serial loop | {d['workers_over_serial']:.2f}× |",
-        f"| physics threaded through `mujoco.rollout`, the rest serial / serial loop "
-        f"| {d['threaded_over_serial']:.2f}× |",
-        f"| ceiling on {m.cores} cores, everything but the pool's own cost in parallel "
-        f"| {d['ceiling_all_parallel']:.2f}× |",
-        f"| ceiling on {m.cores} cores, only the physics in parallel "
-        f"| {d['ceiling_physics_parallel']:.2f}× |",
-        f"| pure physics, {m.cores} threads / 1 thread, in this window "
-        f"| {d['physics_threads_gain']:.2f}× |",
+        *table(["ratio", "value"], "lr", ratios),
     ]
 
 
 def _sources(m: Measured, s: dict) -> list[str]:
+    rows = [
+        [name, f"{c['physics_us']:.1f}", f"{c['contacts']:.1f}", f"{c['geoms']:.0f}"]
+        for name, c in (("CoACD", s["coacd"]), ("hull", s["hull"]))
+    ]
+    header = ["source", "µs per physics step", "contacts (mean ncon)", "geoms per scene"]
     return [
         f"## CoACD vs hull physics cost ({m.source_envs} configurations, same scripted "
         "policy, single thread)",
         "",
-        "| source | µs per physics step | contacts (mean ncon) | geoms per scene |",
-        "|---|---:|---:|---:|",
-        *(
-            f"| {name} | {c['physics_us']:.1f} | {c['contacts']:.1f} | {c['geoms']:.0f} |"
-            for name, c in (("CoACD", s["coacd"]), ("hull", s["hull"]))
-        ),
+        *table(header, "lrrr", rows),
         "",
         *table(["ratio", "value"], "lr",
                [["CoACD / hull, per physics step", f"{s['coacd_over_hull']:.2f}×"]]),
