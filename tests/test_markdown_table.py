@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from realikea.reports.markdown import table
+from realikea.markdown import table
 
 
 def test_a_table_has_its_header_rule_and_rows():

@@ -11,7 +11,7 @@ from pathlib import Path
 from pool_record import Measured
 
 from realikea.files import atomic_write_text
-from realikea.reports.markdown import table
+from realikea.markdown import table
 
 COMMAND = "python experiments/benchmarks/bench_pool.py"
 

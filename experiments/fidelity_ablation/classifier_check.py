@@ -30,7 +30,7 @@ from realikea.assets.library import training_configurations
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import wilson
 from realikea.files import atomic_write_text
-from realikea.reports.markdown import table
+from realikea.markdown import table
 from realikea.tasks.contacts import STRATEGIES
 
 HERE = Path(__file__).resolve().parent

@@ -6,7 +6,7 @@ from __future__ import annotations
 from realikea.assets.catalog import CATEGORIES
 from realikea.eval.library_grid import KINDS, cell_count
 from realikea.eval.stats import diff_interval, significant, wilson
-from realikea.reports.markdown import table
+from realikea.markdown import table
 from realikea.sim.resistance import MODES
 
 

@@ -8,7 +8,7 @@ from parity_unexpressed import FINE_STEP, Unexpressed
 
 from realikea.interop.pybullet_sim import PYBULLET_BODY_DAMPING
 from realikea.interop.sample import UNIT
-from realikea.reports.markdown import table
+from realikea.markdown import table
 
 
 def opening(value: float, joint_type: str) -> str:

@@ -48,7 +48,7 @@ from realikea.interop.sample import (
     sample_arguments,
     sample_context,
 )
-from realikea.reports.markdown import table
+from realikea.markdown import table
 
 DEFAULT_OUT = repo_path("experiments/interop/results/sapien.md")
 BIG = 1e5  # drive damping of the emulated friction (N s/m, N m s/rad): a stiff velocity hold

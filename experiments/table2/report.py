@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from realikea.eval.stats import wilson  # noqa: E402
 from realikea.files import atomic_write_text  # noqa: E402
-from realikea.reports.markdown import table  # noqa: E402
+from realikea.markdown import table  # noqa: E402
 from realikea.sim.resistance import MODES  # noqa: E402
 from realikea.sim.resistance import mode as resistance_mode
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 
 from realikea.files import WORKSPACE
-from realikea.reports.markdown import table
+from realikea.markdown import table
 from realikea.runs.citations import citations
 from realikea.runs.manifest import study_checkpoints, write_manifest
 

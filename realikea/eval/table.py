@@ -22,6 +22,7 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.protocol import run_episodes
 from realikea.files import atomic_write_text, repo_path
+from realikea.markdown import table
 from realikea.policies.registry import make_policy
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.contacts import STRATEGIES
@@ -88,16 +89,45 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
     ]
     cells = {(r["policy"], r["category"], r["resistance"]): r for r in rows}
     for category in categories:
-        lines += [f"## {TITLES.get(category, category)}", ""]
-        head = "| Policy | " + " | ".join(f"{m} F | P | S" for m in resistances) + " |"
-        lines += [head, "|---|" + "---|---|---|" * len(resistances)]
+        header = ["Policy", *(c for m in resistances for c in (f"{m} F", "P", "S"))]
+        outcome_rows = []
         for policy in policies:
             values = []
             for mode in resistances:
                 r = cells.get((policy, category, mode))
                 values += [f"{r[o]:.2f}" for o in OUTCOMES] if r else ["", "", ""]
-            lines.append(f"| {policy} | " + " | ".join(values) + " |")
-        lines.append("")
+            outcome_rows.append([policy, *values])
+        lines += [f"## {TITLES.get(category, category)}", ""]
+        lines += [*table(header, "l" * len(header), outcome_rows), ""]
+    header = [
+        "policy",
+        "category",
+        "resistance",
+        "S",
+        *STRATEGIES,
+        "friction share",
+        "front share",
+        "peak pull",
+        "slip ratio",
+        "grip",
+        "normal angle",
+    ]
+    cell_rows = [
+        [
+            r["policy"],
+            r["category"],
+            r["resistance"],
+            f"{r['success']:.2f}",
+            *(f"{r[f'strategy_{s}']:.2f}" for s in STRATEGIES),
+            f"{r['friction_share']:.2f}",
+            f"{r['front_share']:.2f}",
+            f"{r['peak_pull']:.1f}",
+            f"{r['peak_slip_ratio']:.2f}",
+            f"{r['grip_force']:.1f}",
+            f"{r['normal_angle_deg']:.0f}",
+        ]
+        for r in rows
+    ]
     lines += [
         "## Strategies and slip statistics per cell",
         "",
@@ -108,18 +138,8 @@ def to_markdown(rows: list[dict], policies, categories, resistances) -> str:
         "normal force (N); normal angle: force-weighted angle between contact normals and the "
         "opening direction (deg). Averages over the episodes with a pulling phase.",
         "",
-        "| policy | category | resistance | S | " + " | ".join(STRATEGIES)
-        + " | friction share | front share | peak pull | slip ratio | grip | normal angle |",
-        "|---|---|---|---|" + "---|" * (len(STRATEGIES) + 6),
+        *table(header, "l" * len(header), cell_rows),
     ]  # fmt: skip
-    for r in rows:
-        strategies = " | ".join(f"{r[f'strategy_{s}']:.2f}" for s in STRATEGIES)
-        lines.append(
-            f"| {r['policy']} | {r['category']} | {r['resistance']} | {r['success']:.2f} | "
-            f"{strategies} | {r['friction_share']:.2f} | {r['front_share']:.2f} | "
-            f"{r['peak_pull']:.1f} | "
-            f"{r['peak_slip_ratio']:.2f} | {r['grip_force']:.1f} | {r['normal_angle_deg']:.0f} |"
-        )
     return "\n".join(lines) + "\n"
 
 

@@ -23,8 +23,8 @@ from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count
 from realikea.files import shown_path
+from realikea.markdown import table
 from realikea.policies.registry import POLICIES
-from realikea.reports.markdown import table
 from realikea.reports.multiplicity import Difference
 from realikea.sim.resistance import mode
 
