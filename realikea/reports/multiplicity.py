@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from realikea.eval.stats import diff_interval, diff_p, holm, seed_difference, seed_permutation_p
+from realikea.markdown import table
 
 Runs = Sequence[tuple[int, int]]  # (count, episodes) per training seed
 
@@ -76,21 +77,15 @@ def holm_lines(family: Sequence[Difference], title: str, heading: str = "##") ->
         f"{len(uncorrected)} uncorrected, **{survive} after Holm's correction** (family-wise "
         f"error 5 %, `realikea.eval.stats.holm`; {p_values})."
     )
-    lines = [f"{heading} {title}", "", how]
-    if uncorrected:
-        lines += [
-            "",
-            "| difference | a − b [95 %] | p | Holm-adjusted p | after correction |",
-            "|---|---|---:|---:|---|",
-        ]
+    rows = []
     for i in uncorrected:
         d, lo, hi = family[i].interval()
         verdict = "significant" if adjusted[i] < 0.05 else "not significant"
-        lines.append(
-            f"| {family[i].label} | {d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {_p(ps[i])} | "
-            f"{_p(adjusted[i])} | {verdict} |"
-        )
-    return lines
+        rows.append([family[i].label, f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}]", _p(ps[i]),
+                     _p(adjusted[i]), verdict])  # fmt: skip
+    header = ["difference", "a − b [95 %]", "p", "Holm-adjusted p", "after correction"]
+    lines = [f"{heading} {title}", "", how]
+    return lines + (["", *table(header, "llrrl", rows)] if rows else [])
 
 
 def _p(value: float) -> str:
