@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from realikea.markdown import table
 from realikea.reports.fidelity_ablation.cells import (
     FORM_CLOSURE,
     STRATEGY_LABELS,
@@ -38,11 +39,8 @@ def outcome_tables(cells: dict, variants, resistances, categories, modes) -> lis
     lines = [
         "## Fail / Partial / Success per cell",
         "",
-        "| collision | trained on | category | seeds | "
-        + " | ".join(f"{m} F | P | S" for m in modes)
-        + " |",
-        "|---|---|---|---:|" + "---:|---:|---:|" * len(modes),
     ]
+    rows = []
     for v, res, category in present_cells(cells, variants, resistances, categories):
         cell = cells[v, res, category]
         seeds = max(c["seeds"] for c in cell.values())
@@ -50,8 +48,10 @@ def outcome_tables(cells: dict, variants, resistances, categories, modes) -> lis
         for m in modes:
             c = cell.get(m)
             values += [_fmt(c[o]) for o in OUTCOMES] if c else ["", "", ""]
-        lines.append(f"| {v} | {res} | {category} | {seeds} | " + " | ".join(values) + " |")
-    return lines
+        rows.append([v, res, category, str(seeds), *values])
+    header = ["collision", "trained on", "category", "seeds",
+              *(c for m in modes for c in (f"{m} F", "P", "S"))]  # fmt: skip
+    return lines + table(header, "lllr" + "rrr" * len(modes), rows)
 
 
 def interval_lines(
@@ -68,9 +68,8 @@ def interval_lines(
         "`learned`: the seeds whose training success reached 50 % (`to 50 %` below); a run "
         "that never finds an opening pulls its cell's mean down whatever the geometry.",
         "",
-        "| collision | trained on | category | seeds | learned | " + " | ".join(modes) + " |",
-        "|---|---|---|---:|---:|" + "---|" * len(modes),
     ]
+    rows = []
     for v, res, category in present_cells(cells, variants, resistances, categories):
         cell = cells[v, res, category]
         values = []
@@ -82,9 +81,9 @@ def interval_lines(
             values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
         seeds = max(c["seeds"] for c in cell.values())
         learned = sum(iterations_to_success(r) is not None for r in by_cell[v, res, category])
-        row = f"| {v} | {res} | {category} | {seeds} | {learned} | "
-        lines.append(row + " | ".join(values) + " |")
-    return lines
+        rows.append([v, res, category, str(seeds), str(learned), *values])
+    header = ["collision", "trained on", "category", "seeds", "learned", *modes]
+    return lines + table(header, "lllrr" + "l" * len(modes), rows)
 
 
 def difference_lines(
@@ -104,9 +103,8 @@ def difference_lines(
         "with three seeds a side), significant where p < 0.05 and the interval excludes zero. "
         "Uncorrected; the family's correction is in its section 'Every difference at once (Holm)'.",
         "",
-        "| CoACD | trained on | category | evaluated in | CoACD | hull | CoACD − hull [95 %] | |",
-        "|---|---|---|---|---:|---:|---|---|",
     ]
+    rows = []
     for (coacd, res, category, m), diff in paired_differences(
         cells, variants, resistances, categories, modes, measure
     ):
@@ -115,11 +113,11 @@ def difference_lines(
         if diff.several:
             verdict += f" (seeds: p = {diff.p():.2f})"
         mean_a, mean_b = (np.mean([k / n for k, n in r]) for r in (diff.a, diff.b))
-        lines.append(
-            f"| {coacd} | {res} | {category} | {m} | {mean_a:.2f} | {mean_b:.2f} | "
-            f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}] | {verdict} |"
-        )
-    return lines
+        rows.append([coacd, res, category, m, f"{mean_a:.2f}", f"{mean_b:.2f}",
+                     f"{d:+.2f} [{lo:+.2f}, {hi:+.2f}]", verdict])  # fmt: skip
+    header = ["CoACD", "trained on", "category", "evaluated in", "CoACD", "hull",
+              "CoACD − hull [95 %]", "verdict"]  # fmt: skip
+    return lines + table(header, "llllrrll", rows)
 
 
 def failure_lines(cells: dict, variants, resistances, categories, mode: str = "high") -> list[str]:
@@ -132,9 +130,8 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
         "experiments/fidelity_ablation/results/failure_modes.md), mean over seeds [95 % "
         "interval, as for the success]; the means add up to 1 − success.",
         "",
-        "| collision | trained on | category | " + " | ".join(FAILURE_MODES) + " |",
-        "|---|---|---|" + "---|" * len(FAILURE_MODES),
     ]
+    rows = []
     for v, res, category in present_cells(cells, variants, resistances, categories):
         entry = cells[v, res, category].get(mode, {})
         if "failure_runs" in entry:
@@ -142,8 +139,9 @@ def failure_lines(cells: dict, variants, resistances, categories, mode: str = "h
             for f in FAILURE_MODES:
                 mean, lo, hi = rate_interval(entry["failure_runs"][f])
                 values.append(f"{mean:.2f} [{lo:.2f}, {hi:.2f}]")
-            lines.append(f"| {v} | {res} | {category} | " + " | ".join(values) + " |")
-    return lines
+            rows.append([v, res, category, *values])
+    header = ["collision", "trained on", "category", *FAILURE_MODES]
+    return lines + table(header, "l" * len(header), rows)
 
 
 def strategy_lines(cells, totals, variants, categories) -> list[str]:
@@ -155,10 +153,6 @@ def strategy_lines(cells, totals, variants, categories) -> list[str]:
         "front share = mean share of the pull carried by friction and by contacts on the front "
         "off the part (`front_*` labels) in episodes that pulled.",
         "",
-        "| collision | category | "
-        + " | ".join(STRATEGY_LABELS)
-        + " | friction share | front share |",
-        "|---|---|" + "---:|" * (len(STRATEGY_LABELS) + 2),
     ]
 
     def mean_stat(v, category, stat):
@@ -171,15 +165,16 @@ def strategy_lines(cells, totals, variants, categories) -> list[str]:
         ]
         return float(np.mean(values)) if values else None
 
-    for v in variants:
-        for category in [*categories, "all"]:
-            if (v, category) not in totals:
-                continue
-            fractions = " | ".join(_fmt(totals[v, category][s]) for s in STRATEGY_LABELS)
-            friction = _fmt(mean_stat(v, category, "friction_share"))
-            front = _fmt(mean_stat(v, category, "front_share"))
-            lines.append(f"| {v} | {category} | {fractions} | {friction} | {front} |")
-    return lines
+    rows = [
+        [v, category, *(_fmt(totals[v, category][s]) for s in STRATEGY_LABELS),
+         _fmt(mean_stat(v, category, "friction_share")),
+         _fmt(mean_stat(v, category, "front_share"))]
+        for v in variants
+        for category in [*categories, "all"]
+        if (v, category) in totals
+    ]  # fmt: skip
+    header = ["collision", "category", *STRATEGY_LABELS, "friction share", "front share"]
+    return lines + table(header, "ll" + "r" * (len(STRATEGY_LABELS) + 2), rows)
 
 
 def per_run_lines(runs: list[dict], root: Path) -> list[str]:
@@ -196,13 +191,8 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         f"{PLATEAU_WINDOW} iterations, with their change from the {PLATEAU_WINDOW} before "
         "(a run still climbing has not plateaued).",
         "",
-        "| run | "
-        + " | ".join(f"{m} S" for m in MODES)
-        + " | "
-        + " | ".join(STRATEGY_LABELS)
-        + " | form closure of S | to 50 % | train S | change | train P | change |",
-        "|---|" + "---:|" * (len(MODES) + len(STRATEGY_LABELS) + 6),
     ]
+    rows = []
     for run in runs:
         modes = run["eval"]["modes"]
         success = [_fmt(modes[m]["success"]) if m in modes else "" for m in MODES]
@@ -216,8 +206,10 @@ def per_run_lines(runs: list[dict], root: Path) -> list[str]:
         for tag in ("/episode/success", "/episode/partial"):
             mean, change = last_windows(run, tag)
             row += [_fmt(mean), "–" if change is None else f"{change:+.2f}"]
-        lines.append(f"| {relative(run['dir'], root)} | " + " | ".join(row) + " |")
-    return lines
+        rows.append([relative(run["dir"], root), *row])
+    header = ["run", *(f"{m} S" for m in MODES), *STRATEGY_LABELS, "form closure of S",
+              "to 50 %", "train S", "change", "train P", "change"]  # fmt: skip
+    return lines + table(header, "l" + "r" * (len(header) - 1), rows)
 
 
 def compute_lines(runs: list[dict], root: Path) -> list[str]:
@@ -229,21 +221,21 @@ def compute_lines(runs: list[dict], root: Path) -> list[str]:
         "time only); eval minutes from eval.json; wall: every launch of the run, training and "
         "evaluation, beside whatever else ran.",
         "",
-        "| run | iterations | envs | last launch: its | train (min) | s / iteration | eval (min) "
-        "| wall (min) |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    total = 0.0
+    rows, total = [], 0.0
     for run in runs:
         seconds = train_seconds(run)
         eval_seconds = run["eval"].get("eval_seconds", 0.0)
         total += sum(run["wall"]) if run["wall"] else (seconds or 0.0) + eval_seconds
         per_it = seconds / run["launch_iterations"] if seconds else None
-        lines.append(
-            f"| {relative(run['dir'], root)} | {run['iterations']} | {run['num_envs']} | "
-            f"{run['launch_iterations']} | {_fmt(seconds / 60 if seconds else None, 1)} | "
-            f"{_fmt(per_it)} | {eval_seconds / 60:.1f} | "
-            f"{_fmt(sum(run['wall']) / 60 if run['wall'] else None, 1)} |"
-        )
+        rows.append([
+            relative(run["dir"], root), str(run["iterations"]), str(run["num_envs"]),
+            str(run["launch_iterations"]), _fmt(seconds / 60 if seconds else None, 1),
+            _fmt(per_it), f"{eval_seconds / 60:.1f}",
+            _fmt(sum(run["wall"]) / 60 if run["wall"] else None, 1),
+        ])  # fmt: skip
+    header = ["run", "iterations", "envs", "last launch: its", "train (min)", "s / iteration",
+              "eval (min)", "wall (min)"]  # fmt: skip
+    lines += table(header, "l" + "r" * 7, rows)
     lines += ["", f"Total compute (sum over runs; wall time where recorded): {total / 3600:.2f} h."]
     return lines
