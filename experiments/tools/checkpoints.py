@@ -24,8 +24,7 @@ def main() -> int:
     action.add_argument("--write", action="store_true", help="write each study's manifest")
     action.add_argument("--prune", action="store_true", help="delete uncited checkpoints")
     args = parser.parse_args()
-    studies = [s for s in sorted(EXPERIMENTS.iterdir()) if study_checkpoints(s)]
-    found = {s: study_checkpoints(s) for s in studies}
+    found = {s: paths for s in sorted(EXPERIMENTS.iterdir()) if (paths := study_checkpoints(s))}
     cited = citations(WORKSPACE, [p for paths in found.values() for p in paths])
     uncited = [p for p, by in cited.items() if not by]
     rows = [
@@ -41,7 +40,7 @@ def main() -> int:
             path.unlink()
         print(f"deleted {len(uncited)} uncited checkpoints")
     if args.write:
-        for study in studies:
+        for study in found:
             print(f"wrote {write_manifest(study).relative_to(WORKSPACE)}")
     return 0
 

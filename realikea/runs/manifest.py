@@ -78,10 +78,10 @@ def resumed_from(command: str) -> str:
 def manifest_rows(study: Path) -> list[dict[str, str]]:
     """One row per committed checkpoint of the study (`COLUMNS`), by path."""
     commands_file = study / COMMANDS
-    commands = yaml.safe_load(commands_file.read_text()) if commands_file.is_file() else {}
+    commands = (yaml.safe_load(commands_file.read_text()) or {}) if commands_file.is_file() else {}
     rows = []
     for path in study_checkpoints(study):
-        command = run_command(study, path.parent, commands or {})
+        command = run_command(study, path.parent, commands)
         rows.append(
             {
                 "checkpoint": path.relative_to(study).as_posix(),
@@ -115,4 +115,7 @@ def write_manifest(study: Path) -> Path:
 def read_manifest(study: Path) -> list[dict[str, str]]:
     """The study's manifest as written, [] if it has none."""
     path = study / MANIFEST
-    return list(csv.DictReader(path.open())) if path.is_file() else []
+    if not path.is_file():
+        return []
+    with path.open(newline="") as f:
+        return list(csv.DictReader(f))
