@@ -13,11 +13,6 @@ KINDS = ("drawer", "door", "flap")
 MILLI_UNIT = {"slide": "mm", "hinge": "mrad"}
 
 
-def kind_of(config_id: str) -> str:
-    """drawer, door or flap, from a configuration id (`<part>__<kind>_<size>`)."""
-    return config_id.split("__")[1].split("_")[0]
-
-
 def span(values: list[float]) -> list[float]:
     """[smallest, largest]."""
     return [min(values), max(values)]
@@ -54,12 +49,12 @@ def probe_figures(probes: list[ProbeRun], clearances: list[Clearance]) -> dict:
 
 def per_kind(records, value) -> dict:
     """Per kind, the largest value over its configurations (`value(record)`)."""
-    return {kind: max(value(r) for r in records if kind_of(r.config_id) == kind) for kind in KINDS}
+    return {kind: max(value(r) for r in records if r.kind == kind) for kind in KINDS}
 
 
 def unexpressed_figures(found: Unexpressed) -> dict:
     """Joint motor, damping, time step, creep and joint limits, in figures."""
-    milli = {kind: MILLI_UNIT["slide" if kind == "drawer" else "hinge"] for kind in KINDS}
+    milli = {c.kind: MILLI_UNIT[c.joint_type] for c in found.creep}
     return {
         "friction": {
             "configuration": found.hold_id,
@@ -75,7 +70,7 @@ def unexpressed_figures(found: Unexpressed) -> dict:
             "body_damping_difference": span([d.damped_body_difference for d in found.damping]),
         },
         "time_step": {
-            kind_of(s.config_id): {
+            s.kind: {
                 "coarse": s.coarse,
                 "fine": s.fine,
                 "mujoco": s.mujoco,

@@ -48,6 +48,7 @@ class StepCheck(NamedTuple):
     """One 1.2x pull at 2 ms and at FINE_STEP, before the stop: relative differences."""
 
     config_id: str
+    kind: str
     then: float
     coarse: float  # PyBullet vs MuJoCo at 2 ms
     fine: float  # PyBullet vs MuJoCo at FINE_STEP
@@ -59,6 +60,7 @@ class Excursion(NamedTuple):
     """How far a 2x pull takes the front past its upper limit."""
 
     config_id: str
+    kind: str
     joint_type: str
     upper: float
     mujoco: float
@@ -69,6 +71,7 @@ class Creep(NamedTuple):
     """Opening after 1 s at half the breakaway force."""
 
     config_id: str
+    kind: str
     joint_type: str
     mujoco: float
     pybullet: float
@@ -92,9 +95,9 @@ class Unexpressed:
 def unexpressed(prepared: dict[tuple, Prepared]) -> Unexpressed:
     """What PyBullet does not express, measured on the high-resistance sample."""
     found = Unexpressed()
-    kinds_seen = set()
     for item in prepared.values():
-        cid, jtype, upper = item.config.id, item.joint["type"], item.joint["range"][1]
+        cid, kind = item.config.id, item.config.base.kind
+        jtype, upper = item.joint["type"], item.joint["range"][1]
         for multiple in (0.5, 2.0):
             force = multiple * item.breakaway
             reference, emulated = pull_both(item, force)
@@ -105,10 +108,10 @@ def unexpressed(prepared: dict[tuple, Prepared]) -> Unexpressed:
             models = FrictionModels(reference.at(SECONDS), emulated.at(SECONDS), default, ignored)
             found.friction.append((cid, jtype, multiple, models))
             if multiple == 0.5:
-                found.creep.append(Creep(cid, jtype, models.mujoco, models.emulated))
+                found.creep.append(Creep(cid, kind, jtype, models.mujoco, models.emulated))
             else:
                 found.limits.append(
-                    Excursion(cid, jtype, upper, reference.q.max() - upper,
+                    Excursion(cid, kind, jtype, upper, reference.q.max() - upper,
                               emulated.q.max() - upper)
                 )  # fmt: skip
         force = 1.2 * item.breakaway
@@ -126,12 +129,11 @@ def unexpressed(prepared: dict[tuple, Prepared]) -> Unexpressed:
                 relative_difference(reference.at(t), body_damped.at(t)),
             )
         )  # fmt: skip
-        if item.config.base.kind not in kinds_seen:  # the same pull at a 4x finer step
-            kinds_seen.add(item.config.base.kind)
+        if kind not in {s.kind for s in found.steps}:  # the same pull at a 4x finer step
             fine_mj, fine_pb = pull_both(item, force, timestep=FINE_STEP)
             found.steps.append(
                 StepCheck(
-                    cid, t, relative_difference(reference.at(t), by_urdf.at(t)),
+                    cid, kind, t, relative_difference(reference.at(t), by_urdf.at(t)),
                     relative_difference(fine_mj.at(t), fine_pb.at(t)),
                     relative_difference(reference.at(t), fine_mj.at(t)),
                     relative_difference(by_urdf.at(t), fine_pb.at(t)),
