@@ -26,27 +26,27 @@ from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.eval.table import cell_row
 from realikea.files import atomic_write_text, shown_path
+from realikea.markdown import table
 from realikea.policies.full_squeeze import FullSqueeze
 from realikea.reports.fidelity_ablation.runs import mode_overrides
 
 
-def table(rows: dict[str, dict]) -> list[str]:
+def squeeze_table(rows: dict[str, dict]) -> list[str]:
     """Markdown: each variant's outcome, squeeze and failure modes; the difference."""
-    out = [
-        "| variant | success [95 %] | partial | grip_force (N) | peak_pull (N) | slip | "
-        "interference | clearance |",
-        "|---|---|---:|---:|---:|---:|---:|---:|",
-    ]
+    header = ["variant", "success [95 %]", "partial", "grip_force (N)", "peak_pull (N)", "slip"]
+    header += ["interference", "clearance"]
+    cells = []
     for name, (row, summary) in rows.items():
         n = row["episodes"]
         k = count(row["success"], n)
         low, high = wilson(k, n)
         modes = summary.get("failure_modes", {})
-        out.append(
-            f"| {name} | {k / n:.2f} [{low:.2f}, {high:.2f}] | {row['partial']:.2f} | "
-            f"{row['grip_force']:.1f} | {row['peak_pull']:.1f} | {modes.get('slip', 0):.2f} | "
-            f"{modes.get('mutual_interference', 0):.2f} | {modes.get('narrow_clearance', 0):.2f} |"
-        )
+        cells.append([
+            name, f"{k / n:.2f} [{low:.2f}, {high:.2f}]", f"{row['partial']:.2f}",
+            f"{row['grip_force']:.1f}", f"{row['peak_pull']:.1f}", f"{modes.get('slip', 0):.2f}",
+            f"{modes.get('mutual_interference', 0):.2f}", f"{modes.get('narrow_clearance', 0):.2f}",
+        ])  # fmt: skip
+    out = table(header, "llrrrrrr", cells)
     (trained, _), (squeezed, _) = list(rows.values())[:2]
     n = trained["episodes"]
     ks, kt = count(squeezed["success"], n), count(trained["success"], n)
@@ -98,7 +98,7 @@ def main() -> int:
         f"(`python experiments/fidelity_ablation/squeeze.py {shown_path(args.run.resolve())} "
         f"--resistance {args.resistance} --episodes {args.episodes}`).",
         "",
-        *table(rows),
+        *squeeze_table(rows),
         "",
         *notes,
     ]

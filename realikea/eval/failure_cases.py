@@ -20,6 +20,7 @@ from realikea.assets.catalog import Catalog
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import wilson
 from realikea.files import atomic_write_text
+from realikea.markdown import table
 from realikea.policies.scripted import CLOSE, OPEN, Waypoint, WaypointPolicy
 from realikea.tasks.facts import SceneFacts
 from realikea.tasks.failure_modes import FAILURE_MODES
@@ -100,17 +101,15 @@ def run_case(case: FailureCase, episodes: int, seed: int) -> Counter:
 
 def report(counts: dict[FailureCase, Counter]) -> str:
     """A markdown table of each case's modes and its agreement with Wilson's 95 % interval."""
-    header = "| built to fail by | case | failed | " + " | ".join(FAILURE_MODES)
-    rule = "|---|---|---:|" + "---:|" * len(FAILURE_MODES) + "---|"
-    lines = [header + " | agreement [95 %] |", rule]
+    header = ["built to fail by", "case", "failed", *FAILURE_MODES, "agreement [95 %]"]
+    rows = []
     for case, c in counts.items():
         failed = sum(v for k, v in c.items() if k != "success")
         hit = c[case.mode]
         lo, hi = wilson(hit, failed) if failed else (np.nan, np.nan)
         share = f"{hit / failed:.2f} [{lo:.2f}, {hi:.2f}]" if failed else "no failure"
-        cells = " | ".join(str(c[m]) for m in FAILURE_MODES)
-        lines.append(f"| {case.mode} | {case.why} | {failed} | {cells} | {share} |")
-    return "\n".join(lines)
+        rows.append([case.mode, case.why, str(failed), *(str(c[m]) for m in FAILURE_MODES), share])
+    return "\n".join(table(header, "llr" + "r" * len(FAILURE_MODES) + "l", rows))
 
 
 def validate(episodes: int, seed: int, out: Path | None) -> int:

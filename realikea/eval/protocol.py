@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
+from realikea.markdown import table
 from realikea.pool.env_pool import EnvPool
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
@@ -90,6 +91,5 @@ def run_episodes(pool: EnvPool, policy, episodes: int, progress: bool = True) ->
 def outcome_table(result: EvalResult) -> str:
     """A one-line markdown table of the outcome fractions."""
     f = result.summary()
-    header = "| episodes | " + " | ".join(OUTCOMES) + " |"
-    row = f"| {f['episodes']} | " + " | ".join(f"{f[o]:.2f}" for o in OUTCOMES) + " |"
-    return "\n".join([header, "|---|" + "---|" * len(OUTCOMES), row])
+    row = [str(f["episodes"]), *(f"{f[o]:.2f}" for o in OUTCOMES)]
+    return "\n".join(table(["episodes", *OUTCOMES], "l" * (1 + len(OUTCOMES)), [row]))

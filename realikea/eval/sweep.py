@@ -31,6 +31,7 @@ from realikea.eval.setup import effective_config
 from realikea.eval.stats import wilson
 from realikea.eval.table import to_csv
 from realikea.files import atomic_path, atomic_write_text, repo_path, shown_path
+from realikea.markdown import table
 from realikea.pool.env_pool import EnvPool
 from realikea.sim.resistance import MODES
 from realikea.tasks.randomization import two_phase_switch
@@ -125,6 +126,46 @@ def plot(rows: list[dict], best: dict, path: Path, switch: int | None = None) ->
     plt.close(fig)
 
 
+def sweep_rows(found: list[tuple[int, Path]], results: dict) -> list[dict]:
+    """A row per checkpoint: success and return per mode, their means and the success spread."""
+    rows = []
+    for iteration, _ in found:
+        row = {"iteration": iteration}
+        for mode in MODES:
+            row[f"success_{mode}"], row[f"return_{mode}"] = results[iteration, mode]
+        successes = [row[f"success_{m}"] for m in MODES]
+        row["mean_success"] = float(np.mean(successes))
+        row["success_spread"] = float(np.ptp(successes))
+        row["mean_return"] = float(np.mean([row[f"return_{m}"] for m in MODES]))
+        rows.append(row)
+    return rows
+
+
+def sweep_markdown(run: Path, cfg, rows: list[dict], best: dict) -> list[str]:
+    """sweep.md's lines: what was evaluated, then a row per checkpoint, the most robust marked."""
+    episodes = int(cfg.episodes)
+    lines = [
+        f"# Checkpoint sweep of {shown_path(run)}",
+        "",
+        f"{episodes} episodes per checkpoint and mode; asset={cfg.asset.category} "
+        f"(kind {cfg.asset.kind}) "
+        f"collision={cfg.collision.source}, split {cfg.asset.split}, scene {cfg.scene.name}, "
+        f"dr={cfg.dr.mode}, env.seed={cfg.env.seed}. Mean S: over the modes, with Wilson's 95 % "
+        f"interval on the {len(MODES) * episodes} episodes pooled.",
+        "",
+    ]
+    cells = []
+    for r in rows:
+        mark = " **most robust**" if r is best else ""
+        lo, hi = wilson(round(r["mean_success"] * len(MODES) * episodes), len(MODES) * episodes)
+        cells.append([
+            f"{r['iteration']}{mark}", *(f"{r[f'success_{m}']:.2f}" for m in MODES),
+            f"{r['mean_success']:.2f} [{lo:.2f}, {hi:.2f}]", f"{r['mean_return']:.0f}",
+        ])  # fmt: skip
+    header = ["iteration", *(f"S {m}" for m in MODES), "mean S [95 %]", "mean return"]
+    return lines + table(header, "r" * len(header), cells)
+
+
 def run_sweep(run: Path, overrides: list[str]) -> int:
     """Evaluate every checkpoint of the training run `run`; write RUN/sweep/{sweep.csv, sweep.md,
     sweep.png}."""
@@ -164,37 +205,11 @@ def run_sweep(run: Path, overrides: list[str]) -> int:
                 record = {"iteration": iteration, "mode": mode, "success": success}
                 log.write(json.dumps(record | {"return": ret, "overrides": asked}) + "\n")
                 log.flush()
-    rows = []
-    for iteration, _ in found:
-        row = {"iteration": iteration}
-        for mode in MODES:
-            row[f"success_{mode}"], row[f"return_{mode}"] = results[iteration, mode]
-        successes = [row[f"success_{m}"] for m in MODES]
-        row["mean_success"] = float(np.mean(successes))
-        row["success_spread"] = float(np.ptp(successes))
-        row["mean_return"] = float(np.mean([row[f"return_{m}"] for m in MODES]))
-        rows.append(row)
+    rows = sweep_rows(found, results)
     best = most_robust(rows)
     atomic_write_text(out / "sweep.csv", to_csv(rows))
     plot(rows, best, out / "sweep.png", two_phase_switch(run_cfg.get("dr")))
-    lines = [
-        f"# Checkpoint sweep of {shown_path(run)}",
-        "",
-        f"{episodes} episodes per checkpoint and mode; asset={cfg.asset.category} "
-        f"(kind {cfg.asset.kind}) "
-        f"collision={cfg.collision.source}, split {cfg.asset.split}, scene {cfg.scene.name}, "
-        f"dr={cfg.dr.mode}, env.seed={cfg.env.seed}. Mean S: over the modes, with Wilson's 95 % "
-        f"interval on the {len(MODES) * episodes} episodes pooled.",
-        "",
-        "| iteration | " + " | ".join(f"S {m}" for m in MODES) + " | mean S [95 %] | mean return |",
-        "|---:|" + "---:|" * (len(MODES) + 2),
-    ]
-    for r in rows:
-        cells = " | ".join(f"{r[f'success_{m}']:.2f}" for m in MODES)
-        mark = " **most robust**" if r is best else ""
-        lo, hi = wilson(round(r["mean_success"] * len(MODES) * episodes), len(MODES) * episodes)
-        mean = f"{r['mean_success']:.2f} [{lo:.2f}, {hi:.2f}] | {r['mean_return']:.0f}"
-        lines.append(f"| {r['iteration']}{mark} | {cells} | {mean} |")
+    lines = sweep_markdown(run, cfg, rows, best)
     atomic_write_text(out / "sweep.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
     print(f"most robust checkpoint: {found[[i for i, _ in found].index(best['iteration'])][1]}")

@@ -104,6 +104,7 @@ def run_export(args: argparse.Namespace) -> int:
     """Export the selected built configurations and print what was written where."""
     # imported here: the USD exporter loads usd-core's pxr, 0.4 s no other command needs
     from realikea.export.driver import export_configurations
+    from realikea.fidelity.certificate import report_csv
 
     refuse_resistance(args.overrides, "Give the exported mode as --resistance MODE.")
     cfg = load_config(args.overrides)
@@ -117,6 +118,7 @@ def run_export(args: argparse.Namespace) -> int:
         repo_path(cfg.paths.library),
         args.out,
         resistance=mode(args.resistance),
+        fidelity_csv=report_csv(cfg),
     )
     seconds = time.perf_counter() - start
     print(
@@ -131,6 +133,7 @@ def run_export(args: argparse.Namespace) -> int:
 def run_release(args: argparse.Namespace) -> int:
     """Release the whole built library (or print the catalog counts) and say what was written."""
     from realikea.export import release  # loads the exporters (usd-core's pxr)
+    from realikea.fidelity.certificate import report_csv
 
     if args.counts:
         import yaml
@@ -150,6 +153,7 @@ def run_release(args: argparse.Namespace) -> int:
         args.formats,
         args.collision,
         resistance=mode(args.resistance),
+        fidelity_csv=report_csv(cfg),
     )
     seconds = time.perf_counter() - start
     for name, exported in report.exported.items():

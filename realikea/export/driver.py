@@ -23,8 +23,8 @@ from realikea.errors import RealIkeaError
 from realikea.export import mjcf, urdf, usd
 from realikea.export.metadata import PART_LINK, configuration_metadata
 from realikea.export.model import Articulation, read_articulation, with_resistance
-from realikea.fidelity.certificate import REPORT_CSV, fidelity_certificate, report_rows
-from realikea.files import repo_path, shown_path, staging_dir
+from realikea.fidelity.certificate import fidelity_certificate, report_csv, report_rows
+from realikea.files import shown_path, staging_dir
 from realikea.sim.resistance import Resistance, modes, nominal
 from realikea.sources import check_source, model_name, model_path
 
@@ -129,7 +129,7 @@ def export_configurations(
     library, out = Path(library), Path(out)
     check_request(configs, fmt, source, library, out)
     exporter = EXPORTERS[fmt]
-    fidelity_csv = Path(fidelity_csv) if fidelity_csv is not None else repo_path(REPORT_CSV)
+    fidelity_csv = Path(fidelity_csv) if fidelity_csv is not None else report_csv()
     rows = report_rows(fidelity_csv)
     resistance = resistance or nominal()
     every_mode = modes()

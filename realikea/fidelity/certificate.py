@@ -10,14 +10,23 @@ import csv
 from collections.abc import Sequence
 from pathlib import Path
 
+from omegaconf import DictConfig
+
+from realikea.config import load_config
 from realikea.fidelity.measure import DIRECTIONS
 from realikea.fidelity.meshes import load_pair
 from realikea.fidelity.metric import DEFAULT_SAMPLES, surface_deviation
-from realikea.fidelity.report import DEFAULT_OUT
+from realikea.files import repo_path
 
-REPORT_CSV = f"{DEFAULT_OUT}/parts.csv"  # written by `realikea fidelity report`
 STATS = ("mean", "median", "p90")
 REPORT_SEED = 0  # the report's default sampling seed
+
+
+def report_csv(cfg: DictConfig | None = None) -> Path:
+    """The parts.csv `realikea fidelity report` writes under `cfg`'s paths.fidelity_report (by
+    default the default configuration's)."""
+    cfg = cfg if cfg is not None else load_config()
+    return repo_path(cfg.paths.fidelity_report) / "parts.csv"
 
 
 def report_rows(path: Path) -> dict[str, dict[str, str]]:

@@ -58,7 +58,7 @@ def register(parser: argparse.ArgumentParser) -> None:
     report.add_argument(
         "--out",
         type=Path,
-        help="output folder (default: experiments/fidelity/results in the repository)",
+        help="output folder (default: paths.fidelity_report)",
     )
     report.add_argument(
         "--samples",

@@ -46,9 +46,6 @@ from realikea.files import atomic_path, atomic_write_text, repo_path
 from realikea.sources import SOURCES
 from realikea.spawn import process_map
 
-DEFAULT_OUT = "experiments/fidelity/results"
-
-
 # --- the report ----------------------------------------------------------------------------------
 
 
@@ -132,7 +129,7 @@ def run_report(
     if parts_per_category < 0:
         raise RealIkeaError(f"--parts-per-category must be 0 or more, got {parts_per_category}")
     start = time.perf_counter()
-    out = Path(out) if out is not None else repo_path(DEFAULT_OUT)
+    out = Path(out) if out is not None else repo_path(cfg.paths.fidelity_report)
     workers = workers or os.cpu_count() or 1
     selected = select_parts(Catalog.load(), cfg, parts)
     if not selected:

@@ -11,6 +11,7 @@ import numpy as np
 
 from realikea.assets.catalog import CATEGORIES
 from realikea.fidelity.measure import COLUMNS, MM
+from realikea.markdown import table
 
 
 def csv_text(rows: list[dict]) -> str:
@@ -119,6 +120,14 @@ SUMMARY_METRICS = (
     ("E(Q→P) mean, exposed", "q_to_p_mean_exposed_m"),
     ("E(P→Q) mean, exposed", "p_to_q_mean_exposed_m"),
 )
+WORST_HEADER = (
+    "part", "family", "pieces", "CoACD mean", "exposed", "P90", "max", "hull mean", "exposed",
+)  # fmt: skip
+# the worst parts' distance columns after part, family and pieces (each key + "_m")
+WORST_COLUMNS = (
+    "coacd_q_to_p_mean", "coacd_q_to_p_mean_exposed", "coacd_q_to_p_p90", "coacd_q_to_p_max",
+    "hull_q_to_p_mean", "hull_q_to_p_mean_exposed",
+)  # fmt: skip
 
 
 def _category_lines(rows: list[dict], clearance: float) -> list[str]:
@@ -135,18 +144,21 @@ def _category_lines(rows: list[dict], clearance: float) -> list[str]:
         "collision shell's cap on the clip plane lies exactly that far from P, and P's mounting "
         "face at least that far from Q; neither can be touched on a mounted part.",
         "",
-        "| category | parts | metric | CoACD | hull | hull / CoACD |",
-        "|---|---:|---|---:|---:|---:|",
     ]
+    cells = []
     for category, m in category_means(rows).items():
         for i, (label, key) in enumerate(SUMMARY_METRICS):
             c, h = m[f"coacd_{key}"], m[f"hull_{key}"]
-            head = f"{category} | {m['parts']}" if i == 0 else " | "
-            lines.append(f"| {head} | {label} | {_mm(c)} | {_mm(h)} | {_ratio(h, c)} |")
-        lines.append(
-            f"|  |  | convex pieces | {m['coacd_pieces']:.1f} | {m['hull_pieces']:.0f} |  |"
-        )
-    return lines
+            head = [category, str(m["parts"])] if i == 0 else ["", ""]
+            cells.append([*head, label, _mm(c), _mm(h), _ratio(h, c)])
+        pieces = [f"{m['coacd_pieces']:.1f}", f"{m['hull_pieces']:.0f}", ""]
+        cells.append(["", "", "convex pieces", *pieces])
+    header = ["category", "parts", "metric", "CoACD", "hull", "hull / CoACD"]
+    return lines + table(header, "lrlrrr", cells)
+
+
+def _worst_cells(row: dict) -> list[str]:
+    return [_mm(row[f"{key}_m"]) for key in WORST_COLUMNS]
 
 
 def _worst_lines(rows: list[dict]) -> list[str]:
@@ -155,14 +167,10 @@ def _worst_lines(rows: list[dict]) -> list[str]:
     return [
         "Parts where CoACD swells most (E(Q→P), mm; sorted by the mean):",
         "",
-        "| part | family | pieces | CoACD mean | exposed | P90 | max | hull mean | exposed |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
-        *(
-            f"| {r['id']} | {r['family']} | {r['coacd_pieces']} | {_mm(r['coacd_q_to_p_mean_m'])} "
-            f"| {_mm(r['coacd_q_to_p_mean_exposed_m'])} | {_mm(r['coacd_q_to_p_p90_m'])} "
-            f"| {_mm(r['coacd_q_to_p_max_m'])} | {_mm(r['hull_q_to_p_mean_m'])} "
-            f"| {_mm(r['hull_q_to_p_mean_exposed_m'])} |"
-            for r in worst
+        *table(
+            WORST_HEADER,
+            "llrrrrrrr",
+            [[r["id"], r["family"], str(r["coacd_pieces"])] + _worst_cells(r) for r in worst],
         ),
     ]
 
@@ -229,18 +237,18 @@ def mesh_stats_lines(rows: list[dict], face_areas: dict[str, np.ndarray]) -> lis
         "Per part (median [min–max]); CoACD and hull counts are summed over the convex pieces; "
         "face areas over all faces of all parts.",
         "",
-        "| mesh | vertices per part | faces per part | median face area (mm²) | "
-        "P10–P90 face area (mm²) |",
-        "|---|---:|---:|---:|---:|",
     ]
+    cells = []
     for key, name in (("visual", "visual P"), ("coacd", "CoACD pieces"), ("hull", "hull")):
         v, f = _col(rows, f"{key}_vertices"), _col(rows, f"{key}_faces")
         a = face_areas[key].astype(float) * 1e6
-        lines.append(
-            f"| {name} | {np.median(v):,.0f} [{v.min():,.0f}–{v.max():,.0f}] "
-            f"| {np.median(f):,.0f} [{f.min():,.0f}–{f.max():,.0f}] | {np.median(a):.3g} "
-            f"| {np.percentile(a, 10):.3g}–{np.percentile(a, 90):.3g} |"
-        )
+        cells.append([
+            name, f"{np.median(v):,.0f} [{v.min():,.0f}–{v.max():,.0f}]",
+            f"{np.median(f):,.0f} [{f.min():,.0f}–{f.max():,.0f}]", f"{np.median(a):.3g}",
+            f"{np.percentile(a, 10):.3g}–{np.percentile(a, 90):.3g}",
+        ])  # fmt: skip
+    header = ["mesh", "vertices per part", "faces per part", "median face area (mm²)"]
+    lines += table([*header, "P10–P90 face area (mm²)"], "lrrrr", cells)
     p = _col(rows, "coacd_pieces")
     lines += [
         "",

@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from realikea.eval.stats import count, diff_interval, significant, wilson
+from realikea.markdown import table
 from realikea.reports.fidelity_ablation.runs import read_eval
 
 
@@ -19,7 +20,7 @@ def comparison_lines(a: Path, b: Path) -> list[str]:
     """Markdown: per mode both successes [Wilson] and A − B [Newcombe], "not significant" where
     that interval includes zero."""
     modes_a, modes_b = read_eval(a), read_eval(b)
-    out = [f"A = {a}, B = {b}", "", "| mode | A | B | A − B [95 %] | |", "|---|---|---|---|---|"]
+    rows = []
     for mode in [m for m in modes_a if m in modes_b]:
         ea, eb = modes_a[mode], modes_b[mode]
         ka, na = count(ea["success"], ea["episodes"]), ea["episodes"]
@@ -27,5 +28,6 @@ def comparison_lines(a: Path, b: Path) -> list[str]:
         low, high = diff_interval(ka, na, kb, nb)
         diff = f"{ka / na - kb / nb:+.2f} [{low:+.2f}, {high:+.2f}]"
         verdict = "significant" if significant(ka, na, kb, nb) else "not significant"
-        out.append(f"| {mode} | {_rate(ka, na)} | {_rate(kb, nb)} | {diff} | {verdict} |")
-    return out
+        rows.append([mode, _rate(ka, na), _rate(kb, nb), diff, verdict])
+    header = ["mode", "A", "B", "A − B [95 %]", "verdict"]
+    return [f"A = {a}, B = {b}", "", *table(header, "lllll", rows)]
