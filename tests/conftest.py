@@ -12,6 +12,7 @@ from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.config import load_config
 from realikea.files import WORKSPACE, repo_path
+from realikea.sources import SOURCES
 
 SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
 
@@ -64,7 +65,7 @@ def sample_configs(catalog):
 
 def build_sample(configs, settings, cache_root, out):
     """Build configurations for both collision sources (at the nominal resistance), quietly."""
-    return build_library(configs, settings, ("coacd", "hull"), cache_root, out, progress=False)
+    return build_library(configs, settings, SOURCES, cache_root, out, progress=False)
 
 
 @pytest.fixture(scope="session")

@@ -13,6 +13,7 @@ from conftest import build_sample
 from realikea.assets.build import INDEX_COLUMNS, build_library, part_key
 from realikea.assets.library import load_model, read_index
 from realikea.sim.resistance import handle_resistance, lever_arm, nominal
+from realikea.sources import SOURCES
 
 
 def test_every_sample_mjcf_compiles(sample_library, sample_configs):
@@ -20,7 +21,7 @@ def test_every_sample_mjcf_compiles(sample_library, sample_configs):
     rows = read_index(out)
     assert len(rows) == len(sample_configs) == report.configs_built + report.configs_cached
     for row in rows:
-        for source in ("coacd", "hull"):
+        for source in SOURCES:
             model = mujoco.MjModel.from_xml_path(str(out / row[f"mjcf_{source}"]))
             assert model.njnt == 1 and model.nu == 0
 
@@ -43,7 +44,7 @@ def test_folder_is_self_contained(sample_library, tmp_path):
     row = read_index(out)[0]
     moved = tmp_path / "elsewhere" / row["config_id"]
     shutil.copytree(out / row["config_id"], moved)
-    for source in ("coacd", "hull"):
+    for source in SOURCES:
         mujoco.MjModel.from_xml_path(str(moved / f"model_{source}.xml"))
     assert "/" not in (moved / "model_coacd.xml").read_text().split('file="')[1].split("meshes/")[0]
 

@@ -7,6 +7,7 @@ import pytest
 
 from realikea.assets.library import read_index
 from realikea.cli import main
+from realikea.sources import SOURCES
 
 
 def test_list_prints_the_catalog(capsys):
@@ -49,7 +50,7 @@ def test_full_library_builds_and_every_mjcf_compiles(tmp_path, capsys):
     rows = read_index(tmp_path)
     assert len(rows) == 1079
     for row in rows:
-        for source in ("coacd", "hull"):
+        for source in SOURCES:
             mujoco.MjModel.from_xml_path(str(tmp_path / row[f"mjcf_{source}"]))
     capsys.readouterr()
     assert main(["assets", "build", "--all", "--out", str(tmp_path)]) == 0

@@ -14,6 +14,7 @@ from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import Catalog, catalog_dir
 from realikea.cli import main
 from realikea.config import load_config
+from realikea.sources import SOURCES
 
 
 @pytest.fixture
@@ -55,7 +56,7 @@ def test_import_builds_like_a_catalog_part(catalog_root, tmp_path, capsys):
     out = tmp_path / "library"
     build_library(
         [config], WorkflowSettings.from_config(cfg),
-        ("coacd", "hull"), tmp_path / "cache", out, progress=False,
+        SOURCES, tmp_path / "cache", out, progress=False,
     )  # fmt: skip
     model = mujoco.MjModel.from_xml_path(str(out / config.id / "model_coacd.xml"))
     visual = trimesh.load_mesh(out / config.id / "meshes" / "visual.obj")

@@ -15,6 +15,7 @@ from realikea.interop import probe
 from realikea.interop.parity import OPENS, SECONDS, STILL, ProbeParity, compare_pull
 from realikea.interop.pull import breakaway_force, mujoco_pull, pybullet_pull
 from realikea.sim.resistance import mode
+from realikea.sources import SOURCES
 
 CONFIGS = {
     "drawer": ("tp_round_bar_128", "drawer_w60_h20"),  # a bar: a gap behind it
@@ -91,7 +92,7 @@ def test_pybullet_without_the_emulation_ignores_the_urdf_friction(exported):
     assert _pybullet(exported, "drawer", 0.5, friction="ignored").at(SECONDS) > OPENS["slide"]
 
 
-@pytest.mark.parametrize("source", ["coacd", "hull"])
+@pytest.mark.parametrize("source", SOURCES)
 def test_fingertip_passes_behind_the_bar_with_coacd_and_is_blocked_by_the_hull(exported, source):
     """The 9 mm pad gets behind the bar through the CoACD pieces, not the hull, in both."""
     _, urdf, metadata, _, _ = _front(exported, "drawer", source)

@@ -47,7 +47,7 @@ from realikea.sim.scene import (
     closed_front,
     reset_home,
 )
-from realikea.sources import built_model
+from realikea.sources import SOURCES, built_model
 
 PART = "tp_round_bar_128"
 BASES = ("drawer_w60_h20", "door_right_w60_h80", "flap_w60_h40")
@@ -67,7 +67,7 @@ def library(tmp_path_factory):
     out = tmp_path_factory.mktemp("sim_library")
     build_library(
         configs, WorkflowSettings.from_config(cfg),
-        ("coacd", "hull"), repo_path(cfg.paths.cache), out, workers=2, progress=False,
+        SOURCES, repo_path(cfg.paths.cache), out, workers=2, progress=False,
     )  # fmt: skip
     return out
 

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.reports.multiplicity import Difference, holm_lines
+from realikea.sources import SOURCES
 
 HERE = Path(__file__).resolve().parent
 
@@ -22,7 +23,7 @@ def read_rows(path: Path) -> dict[tuple[str, str, str], float]:
     rows = {}
     for line in path.read_text().splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 9 and cells[0] in ("coacd", "hull"):
+        if len(cells) == 9 and cells[0] in SOURCES:
             rows[(cells[0], cells[1], cells[2])] = float(cells[5])
     if not rows:
         raise SystemExit(f"{path}: no rows of the form | coacd|hull | seed | preset | ... |")

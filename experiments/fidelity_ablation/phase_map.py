@@ -40,7 +40,7 @@ from realikea.reports.phase_map import (
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results" / "phase_map" / "cells.jsonl"
 # where each default axis value comes from (datasheets and handbook tables)
-SOURCES = HERE / "phase_map_axes.md"
+AXIS_SOURCES = HERE / "phase_map_axes.md"
 
 
 def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) -> Path:
@@ -60,7 +60,7 @@ def write_report(results: Path, compare: tuple[str, str] = ("coacd", "hull")) ->
         "",
         f"![phase map]({png.name})",
         "",
-        SOURCES.read_text(),
+        AXIS_SOURCES.read_text(),
         *phase_table(cells, pull),
         *difference_grid_lines(cells, *compare),
     ]

@@ -26,6 +26,7 @@ import sys
 import numpy as np
 
 from realikea.files import WORKSPACE
+from realikea.sources import SOURCES
 from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
@@ -36,7 +37,7 @@ ITERATIONS = 600
 SWITCH = 300  # fixed poses before this iteration, randomized from it
 LEARNED, LEARNED_WINDOW = 0.5, 20  # a full window of training success at or above LEARNED
 CELLS = {"knob_high": ("knob", "high"), "finger_pull_smooth": ("finger_pull", "smooth")}
-COLLISIONS = ("coacd", "hull")
+COLLISIONS = SOURCES
 SEEDS = (12, 13)
 # placement name -> the overrides that make it ("today": the kitchen's defaults)
 PLACEMENTS = {"today": [], "none": ["scene.robot.placements=[]"]}

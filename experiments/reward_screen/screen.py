@@ -26,6 +26,7 @@ import numpy as np
 
 from realikea.files import WORKSPACE
 from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
+from realikea.sources import SOURCES
 from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
@@ -43,7 +44,7 @@ CELLS = {
     "finger_pull_smooth": ("finger_pull", "smooth"),
     "knob_high": ("knob", "high"),
 }
-COLLISIONS = ("coacd", "hull")
+COLLISIONS = SOURCES
 # `gated`'s opening weights before the screen made gated_pull_rate's its defaults: every recipe
 # pins them, so each names the reward its kept runs were trained on
 GATED_AS_SCREENED = [
