@@ -9,14 +9,13 @@ from realikea.files import WORKSPACE
 
 LABEL = re.compile(r"\b(session|issue)s? [0-9]", re.IGNORECASE)
 SUFFIXES = (".md", ".py", ".yaml", ".yml", ".sh", ".toml", ".cfg", ".txt")
-SKIPPED = (".venv/", "outputs/", ".cache/")
 
 
 def tracked_text_files() -> list[str]:
     out = subprocess.run(
         ["git", "ls-files"], cwd=WORKSPACE, capture_output=True, text=True, check=True
     ).stdout
-    return [p for p in out.splitlines() if p.endswith(SUFFIXES) and not p.startswith(SKIPPED)]
+    return [p for p in out.splitlines() if p.endswith(SUFFIXES)]
 
 
 def test_no_text_file_labels_a_session_or_an_issue_by_number():

@@ -33,8 +33,8 @@ from realikea.reports.fidelity_ablation.runs import mode_overrides
 
 def squeeze_table(rows: dict[str, dict]) -> list[str]:
     """Markdown: each variant's outcome, squeeze and failure modes; the difference."""
-    header = ["variant", "success [95 %]", "partial", "grip_force (N)", "peak_pull (N)", "slip"]
-    header += ["interference", "clearance"]
+    header = ["variant", "success [95 %]", "partial", "grip_force (N)", "peak_pull (N)", "slip",
+              "interference", "clearance"]  # fmt: skip
     cells = []
     for name, (row, summary) in rows.items():
         n = row["episodes"]
