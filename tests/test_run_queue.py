@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 import shutil
 import sys
+import threading
+import time
 
 from realikea.training import queue
 from realikea.training.queue import QueuedRun, RunQueue
@@ -140,3 +142,83 @@ def test_a_launch_that_died_before_its_first_checkpoint_starts_in_an_emptied_fol
     monkeypatch.setattr(RunQueue, "command", lambda self, run: [sys.executable, "-c", "pass"])
     q._launch(RUN).wait()
     assert not run_dir.exists()
+
+
+# a "training" that writes its config and metrics, then a checkpoint every TICK seconds (0, 50, ...
+# and its last, ITERATIONS - 1), and exits 0 after its last; on SIGINT it cleans up as train.py
+# does (its finally)
+TICK = 0.6
+TRAINING = """
+import pathlib, sys, time
+folder, iterations = pathlib.Path(sys.argv[1]), int(sys.argv[2])
+(folder / ".hydra").mkdir(parents=True, exist_ok=True)
+(folder / "metrics.csv").write_text("iteration,tag,value\\n")
+try:
+    for it in [*range(0, iterations - 1, 50), iterations - 1]:
+        (folder / f"model_{it}.pt").touch()
+        time.sleep(TICK)
+finally:
+    (folder / "closed").touch()
+""".replace("TICK", str(TICK))
+
+
+def _training(self, run):
+    return [sys.executable, "-c", TRAINING, str(self.work / run.name), str(run.iterations)]
+
+
+def _when(condition) -> None:
+    deadline = time.time() + 30
+    while not condition():
+        assert time.time() < deadline
+        time.sleep(0.02)
+
+
+def test_parking_stops_each_run_at_its_next_checkpoint_and_launches_no_other(
+    tmp_path, monkeypatch, capsys
+):
+    """The driver stops a run at the first checkpoint written after the request, lets one whose
+    next checkpoint is its last finish (kept), launches no other run, and times each launch."""
+    kept: list[str] = []
+    q = _queue(tmp_path, kept)
+    q.parked = tmp_path / "parked"
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.1)
+    monkeypatch.setattr(RunQueue, "command", _training)
+    long, short, waiting = (QueuedRun("long", (), 300), QueuedRun("short", (), 51),
+                            QueuedRun("waiting", (), 300))  # fmt: skip
+    status: list[int] = []
+    start = time.time()
+    driver = threading.Thread(target=lambda: status.append(q.run_all([long, short, waiting], 2)))
+    driver.start()
+    _when(lambda: q.drivers() and q.last_checkpoint(long) == 0 and q.last_checkpoint(short) == 0)
+    assert q.serve([long, short, waiting], 2, park=True) == 0
+    driver.join()
+    assert status == [0] and kept == ["short"]  # its next checkpoint was its last
+    stopped_at = q.last_checkpoint(long)  # 50, or 100 if the driver saw the request late
+    assert 0 < stopped_at < 299 and (tmp_path / "work" / "long" / "closed").is_file()
+    assert not (tmp_path / "work" / "waiting.log").exists()
+    (launch,) = q.wall_times(long)
+    assert TICK < launch < time.time() - start
+    assert sorted(p.name for p in q.parked.iterdir()) == ["long"]
+    assert not (tmp_path / "work" / queue.PARK_REQUEST).exists() and q.drivers() == []
+    assert f"stopped long at iteration {stopped_at}" in capsys.readouterr().out
+
+
+def test_parking_stops_a_run_whose_driver_died_and_times_its_launch(tmp_path, monkeypatch):
+    """No live driver: the parking process stops the run at its next checkpoint itself and
+    replaces the dead driver's last record of the launch with the launch's whole time."""
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.1)
+    monkeypatch.setattr(RunQueue, "command", _training)
+    run = QueuedRun("orphan", (), 300)
+    proc = q._launch(run)
+    reaper = threading.Thread(target=proc.wait)  # as init reaps a dead driver's child
+    reaper.start()
+    _when(lambda: q.last_checkpoint(run) == 0)
+    (tmp_path / "work" / "orphan.wall.json").write_text("[500.0, 0.01]\n")  # its last poll
+    assert q.serve([run], 1, park=True) == 0
+    reaper.join()
+    assert proc.returncode != 0 and 0 < q.last_checkpoint(run) < 299
+    earlier, launch = q.wall_times(run)
+    assert earlier == 500.0 and TICK < launch < 10
+    assert (q.parked / "orphan" / f"model_{q.last_checkpoint(run)}.pt").is_file()

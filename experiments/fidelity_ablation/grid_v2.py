@@ -5,7 +5,7 @@ checkpoint on the test parts (CoACD geometry) in smooth, normal and high.
     python experiments/fidelity_ablation/grid_v2.py --freeze   # once, before any run: recipe.yaml
     python experiments/fidelity_ablation/grid_v2.py --dry-run  # the runs, their state, commands
     python experiments/fidelity_ablation/grid_v2.py            # every run not kept, two at a time
-    python experiments/fidelity_ablation/grid_v2.py --park     # stopped runs' state into git
+    python experiments/fidelity_ablation/grid_v2.py --park     # stop at next checkpoints, into git
 
 The recipe is frozen in results/grid_v2/recipe.yaml (`--freeze` writes today's resolved task,
 agent, scene, sim, gripper, contact and pose ranges there, and refuses to overwrite it). Every
@@ -114,7 +114,7 @@ def main() -> int:
     parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
     parser.add_argument("--dry-run", action="store_true", help="print the commands only")
     parser.add_argument("--freeze", action="store_true", help="write recipe.yaml from the defaults")
-    parser.add_argument("--park", action="store_true", help="keep stopped runs' state in git")
+    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args()
     if args.freeze:
         freeze()

@@ -4,7 +4,7 @@ seeds the project never used, before the fidelity grid (v2) freezes it?
     python experiments/fidelity_ablation/pilot.py            # every run not yet kept, two at a time
     python experiments/fidelity_ablation/pilot.py --dry-run  # the commands and their state
     python experiments/fidelity_ablation/pilot.py --placements none  # arm 0.80 m below (screened)
-    python experiments/fidelity_ablation/pilot.py --park     # stopped runs' state into git
+    python experiments/fidelity_ablation/pilot.py --park     # stop at next checkpoints, into git
 
 Knob x high and finger pull x smooth, drawers, kitchen, train parts, CoACD and hull, seeds 12
 and 13, on the grid's schedule (600 iterations, fixed poses to 300, then randomized), one env
@@ -103,7 +103,7 @@ def main() -> int:
     parser.add_argument("--placements", choices=list(PLACEMENTS), default="today")
     parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
     parser.add_argument("--dry-run", action="store_true", help="print the commands only")
-    parser.add_argument("--park", action="store_true", help="keep stopped runs' state in git")
+    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args()
     runs = [
         pilot_run(collision, cell, seed, args.placements)

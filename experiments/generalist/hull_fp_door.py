@@ -40,7 +40,7 @@ RUN = QueuedRun(
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--dry-run", action="store_true", help="print the run and stop")
-    parser.add_argument("--park", action="store_true", help="copy a stopped run into git")
+    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args(argv)
     queue = RunQueue(
         WORK,

@@ -181,7 +181,7 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--candidates", nargs="+", choices=CANDIDATES, default=list(CANDIDATES))
     parser.add_argument("--seeds", nargs="+", type=int, default=list(SEEDS))
     parser.add_argument("--dry-run", action="store_true", help="print the runs and stop")
-    parser.add_argument("--park", action="store_true", help="copy stopped runs into git")
+    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args(argv)
     screen = Screen()
     for candidate in args.candidates:

@@ -13,6 +13,12 @@ outcome is decided before its last iteration (`stop_early(run)`, checked at ever
 interrupted (SIGINT: the trainer closes its env pool), marked finished (WORK/NAME/STOPPED_EARLY)
 and kept with its last checkpoint. WORK is gone with the machine: `park` copies each stopped
 run's resumable state to a folder git holds, and a later launch of it starts from there.
+
+At a session's end `serve(park=True)` stops the runs at their next checkpoints and parks them: it
+asks the live drivers (WORK/drivers/PID) through WORK/PARK, and each stops launching, interrupts
+every run once it has written a checkpoint after the request (a run past its last checkpoint
+finishes and is kept), records the launch's wall time and exits; a run training with no live
+driver is stopped the same way by the parking process itself, its launch timed from its pid file.
 """
 
 from __future__ import annotations
@@ -35,6 +41,8 @@ from realikea.training.metrics import join_launches
 
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
 STOPPED_EARLY = "STOPPED_EARLY"  # in a run's folder: stopped by `stop_early`, finished as it is
+PARK_REQUEST = "PARK"  # in WORK: stop every run at its next checkpoint, then park it
+DRIVERS = "drivers"  # in WORK: one empty file per live driver, named by its pid
 
 
 @dataclass(frozen=True)
@@ -71,13 +79,7 @@ class RunQueue:
     def running(self, run: QueuedRun) -> bool:
         """Whether a training process of `run` (its pid file) is alive."""
         pid_file = self.work / f"{run.name}.pid"
-        if not pid_file.is_file():
-            return False
-        try:
-            os.kill(int(pid_file.read_text()), 0)
-        except (ProcessLookupError, ValueError):
-            return False
-        return True
+        return pid_file.is_file() and _alive(pid_file.read_text())
 
     def state(self, run: QueuedRun) -> str:
         """kept, running, finished (not yet kept), stopped (has checkpoints), parked (stopped
@@ -96,6 +98,17 @@ class RunQueue:
     def finished(self, run: QueuedRun) -> bool:
         run_dir = self.work / run.name
         return (run_dir / self.done(run)).is_file() or (run_dir / STOPPED_EARLY).is_file()
+
+    def last_checkpoint(self, run: QueuedRun) -> int:
+        """The iteration of the run's last checkpoint in `work` (-1: none)."""
+        if not any((self.work / run.name).glob("model_*.pt")):
+            return -1
+        return checkpoints(self.work / run.name)[-1][0]
+
+    def may_stop(self, run: QueuedRun, since: int) -> bool:
+        """Whether to stop `run` for parking: it has written a checkpoint after iteration `since`,
+        and not its last (a run past its last checkpoint is evaluating: it finishes)."""
+        return since < self.last_checkpoint(run) < run.iterations - 1
 
     def wall_times(self, run: QueuedRun) -> list[float]:
         """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
@@ -160,25 +173,86 @@ class RunQueue:
             print(f"{self.state(run)}: " + " ".join(self.command(run)[1:]))
 
     def serve(self, runs: list[QueuedRun], jobs: int, dry_run: bool = False, park: bool = False):
-        """A driver's command on its runs: print them (`dry_run`), park the stopped ones
-        (`park`), or train them `jobs` at a time (`run_all`); returns the exit status."""
+        """A driver's command on its runs: print them (`dry_run`), stop them at their next
+        checkpoints and park them (`park`), or train them `jobs` at a time (`run_all`); returns
+        the exit status."""
         if dry_run:
             self.show(runs)
             return 0
         if park:
+            self.stop_at_checkpoints(runs)
             for folder in self.park(runs):
                 print(f"parked {folder}")
             return 0
         return self.run_all(runs, jobs)
 
+    def drivers(self) -> list[int]:
+        """The pids of the live drivers of this queue."""
+        folder = self.work / DRIVERS
+        return [int(p.name) for p in folder.glob("*") if _alive(p.name)] if folder.is_dir() else []
+
+    def stop_at_checkpoints(self, runs: list[QueuedRun]) -> None:
+        """Stop every training run at its next checkpoint: through its driver if one is alive,
+        else here (a run whose driver died), recording the launch's wall time; returns once
+        no driver and no run is left training."""
+        request = self.work / PARK_REQUEST
+        if self.drivers():
+            atomic_write_text(request, f"{time.time()}\n")
+            print(f"asked drivers {self.drivers()} to stop their runs at the next checkpoints")
+            while self.drivers():
+                time.sleep(POLL_SECONDS)
+        orphans = {run: self.last_checkpoint(run) for run in runs if self.running(run)}
+        for run in orphans:
+            print(f"{run.name} trains with no driver: stopping it at its next checkpoint")
+        while orphans:
+            time.sleep(POLL_SECONDS)
+            for run, since in list(orphans.items()):
+                if self.running(run) and not self.may_stop(run, since):
+                    continue
+                pid_file = self.work / f"{run.name}.pid"
+                if self.running(run):
+                    os.kill(int(pid_file.read_text()), signal.SIGINT)
+                    while self.running(run):
+                        time.sleep(0.1)
+                self._record_orphan_launch(run, time.time() - pid_file.stat().st_mtime)
+                del orphans[run]
+        request.unlink(missing_ok=True)
+
+    def _record_orphan_launch(self, run: QueuedRun, seconds: float) -> None:
+        """Write a launch's wall time in place of what its dead driver last recorded of it."""
+        path = self.work / f"{run.name}.wall.json"
+        times = self.wall_times(run)
+        if times and path.stat().st_mtime >= (self.work / f"{run.name}.pid").stat().st_mtime:
+            times.pop()  # the dead driver's last poll of this launch
+        atomic_write_text(path, json.dumps([*times, seconds]) + "\n")
+        print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}", flush=True)
+
     def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
         """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
+        me = self.work / DRIVERS / str(os.getpid())
+        me.parent.mkdir(parents=True, exist_ok=True)
+        me.touch()
+        try:
+            return self._drive(runs, jobs, started=time.time())
+        finally:
+            me.unlink(missing_ok=True)
+
+    def _parking(self, started: float) -> bool:
+        """Whether a park request was made since this driver started."""
+        request = self.work / PARK_REQUEST
+        return request.is_file() and request.stat().st_mtime >= started
+
+    def _drive(self, runs: list[QueuedRun], jobs: int, started: float) -> int:
         queue = [r for r in runs if not self.kept(r)]
         print(f"{len(runs) - len(queue)} of {len(runs)} runs already kept; {len(queue)} to go")
         active: dict[QueuedRun, tuple[subprocess.Popen, float, list[float]]] = {}
+        stop_after: dict[QueuedRun, int] | None = None  # parking: last checkpoints at the request
         failed = 0
-        while queue or active:
-            while queue and len(active) < jobs:
+        while active or (queue and stop_after is None):
+            if stop_after is None and self._parking(started):
+                stop_after = {run: self.last_checkpoint(run) for run in active}
+                print("parking: each run stops at its next checkpoint", flush=True)
+            while queue and len(active) < jobs and stop_after is None:
                 run = queue.pop(0)
                 if self.kept(run):  # by another driver while this one waited
                     print(f"skip {run.name}: kept meanwhile", flush=True)
@@ -196,6 +270,15 @@ class RunQueue:
                 atomic_write_text(self.work / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
                 stopped = False
                 if proc.poll() is None:
+                    if stop_after is not None and self.may_stop(run, stop_after[run]):
+                        proc.send_signal(signal.SIGINT)
+                        proc.wait()
+                        seconds[-1] = time.time() - begin
+                        wall = json.dumps(seconds) + "\n"
+                        atomic_write_text(self.work / f"{run.name}.wall.json", wall)
+                        print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}")
+                        del active[run]
+                        continue
                     if not self.stop_early(run):
                         continue
                     self._interrupt(run, proc)
@@ -208,6 +291,15 @@ class RunQueue:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
         return 1 if failed else 0
+
+
+def _alive(pid: str) -> bool:
+    """Whether a process with this pid (text) is alive."""
+    try:
+        os.kill(int(pid), 0)
+    except (ProcessLookupError, ValueError):
+        return False
+    return True
 
 
 def _interruptible() -> None:
