@@ -198,12 +198,12 @@ class RunQueue:
         request = self.work / PARK_REQUEST
         if self.drivers():
             atomic_write_text(request, f"{time.time()}\n")
-            print(f"asked drivers {self.drivers()} to stop their runs at the next checkpoints")
+            print(f"asked drivers {self.drivers()} to stop runs at next checkpoints", flush=True)
             while self.drivers():
                 time.sleep(POLL_SECONDS)
         orphans = {run: self.last_checkpoint(run) for run in runs if self.running(run)}
         for run in orphans:
-            print(f"{run.name} trains with no driver: stopping it at its next checkpoint")
+            print(f"{run.name} trains with no driver: stop at next checkpoint", flush=True)
         while orphans:
             time.sleep(POLL_SECONDS)
             for run, since in list(orphans.items()):
@@ -276,7 +276,8 @@ class RunQueue:
                         seconds[-1] = time.time() - begin
                         wall = json.dumps(seconds) + "\n"
                         atomic_write_text(self.work / f"{run.name}.wall.json", wall)
-                        print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}")
+                        at = self.last_checkpoint(run)
+                        print(f"stopped {run.name} at iteration {at}", flush=True)
                         del active[run]
                         continue
                     if not self.stop_early(run):
