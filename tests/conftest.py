@@ -1,9 +1,10 @@
-"""Shared fixtures: the catalog, default workflow settings, a small built library, and the
-experiments' scripts as modules."""
+"""Shared fixtures: the catalog, default workflow settings, a small built library, the
+experiments' scripts as modules, and the config train.py composes."""
 
 from __future__ import annotations
 
 import importlib.util
+import subprocess
 import sys
 
 import pytest
@@ -112,3 +113,18 @@ def export_configs(catalog):
         next(catalog.configurations(part=p, base=b))
         for p, b in (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
     ]
+
+
+# what `train.py --cfg job` composes in test_config and test_train_eval
+TRAIN_PY_JOB = ["--cfg", "job", "asset=knob", "collision=hull", "resistance=high"]
+
+
+@pytest.fixture(scope="session")
+def train_py_job() -> str:
+    """The job config `train.py TRAIN_PY_JOB` prints, composed once: each launch starts a Python
+    with train.py's imports (20-30 s on a loaded machine) for a config that does not change."""
+    out = subprocess.run(
+        [sys.executable, "train.py", *TRAIN_PY_JOB], cwd=WORKSPACE, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pytest
 
 from realikea.cli import main
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.files import WORKSPACE
 
 
 @pytest.mark.parametrize(
@@ -49,15 +45,8 @@ def test_cli_reports_bad_override_without_traceback(capsys):
     assert "collision/extreme" in err and "Traceback" not in err
 
 
-def test_train_py_composes_the_config():
-    out = subprocess.run(
-        [sys.executable, "train.py", "collision=hull", "resistance=high", "--cfg", "job"],
-        capture_output=True,
-        text=True,
-        check=True,
-        cwd=WORKSPACE,
-    ).stdout
-    assert "source: hull" in out and "frictionloss: 20.0" in out
+def test_train_py_composes_the_config(train_py_job):
+    assert "source: hull" in train_py_job and "frictionloss: 20.0" in train_py_job
 
 
 def test_evaluation_keeps_its_32_env_draw_whatever_trainings_default():

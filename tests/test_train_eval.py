@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from conftest import SMALL_RUN
+from conftest import SMALL_RUN, TRAIN_PY_JOB
 
 from realikea.cli import main
 from realikea.config import load_config
@@ -242,16 +242,13 @@ def test_table_refuses_checkpoints_and_unknown_policies(capsys):
     assert "nonsense" in capsys.readouterr().err
 
 
-def test_realikea_train_composes_what_train_py_composes():
-    args = ["--cfg", "job", "asset=knob", "collision=hull", "resistance=high"]
-    outputs = [
-        subprocess.run(
-            [sys.executable, *entry, *args], cwd=WORKSPACE, capture_output=True, text=True
-        )
-        for entry in (["train.py"], ["-m", "realikea.cli", "train"])
-    ]
-    assert all(out.returncode == 0 for out in outputs), [o.stderr[-2000:] for o in outputs]
-    assert outputs[0].stdout == outputs[1].stdout and "category: knob" in outputs[0].stdout
+def test_realikea_train_composes_what_train_py_composes(train_py_job):
+    out = subprocess.run(
+        [sys.executable, "-m", "realikea.cli", "train", *TRAIN_PY_JOB],
+        cwd=WORKSPACE, capture_output=True, text=True,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout == train_py_job and "category: knob" in train_py_job
 
 
 def test_a_generalist_trains_two_iterations_on_a_mixed_draw_of_kinds(tmp_path):
