@@ -1,5 +1,6 @@
-"""Shared fixtures: the catalog, default workflow settings, a small built library, the
-experiments' scripts as modules, and the config train.py composes."""
+"""Shared fixtures: the catalog, default workflow settings, a small built library, its export
+sample and their release, the experiments' scripts as modules, and the config train.py
+composes."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import pytest
 from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.config import load_config
+from realikea.export.release import release_library
 from realikea.files import WORKSPACE, repo_path
 from realikea.sources import SOURCES
 
@@ -113,6 +115,14 @@ def export_configs(catalog):
         next(catalog.configurations(part=p, base=b))
         for p, b in (EXPORT_SAMPLE["drawer"], EXPORT_SAMPLE["door"])
     ]
+
+
+@pytest.fixture(scope="session")
+def export_release(tmp_path_factory, export_configs, export_library):
+    """`export_configs` released in every format and source, with its report: built once for
+    test_release and test_verify, whose tests read it or copy it before changing it."""
+    out = tmp_path_factory.mktemp("release") / "release"
+    return out, release_library(export_configs, export_library, out, progress=False)
 
 
 # what `train.py --cfg job` composes in test_config and test_train_eval

@@ -13,7 +13,7 @@ from pxr import Usd
 from realikea.cli import main
 from realikea.export import FORMATS, release
 from realikea.export.driver import export_configurations, export_folder
-from realikea.export.release import MANIFEST, VERIFICATION, release_library
+from realikea.export.release import MANIFEST, VERIFICATION
 from realikea.export.verify import verify_folder, verify_release
 from realikea.sources import SOURCES
 
@@ -21,11 +21,10 @@ FOLDERS = [f"{fmt}_{source}" for fmt in FORMATS for source in SOURCES]
 
 
 @pytest.fixture(scope="module")
-def released(tmp_path_factory, export_configs, export_library):
-    """A release of the two configurations in every format and source, not verified."""
-    out = tmp_path_factory.mktemp("release") / "release"
-    release_library(export_configs, export_library, out, progress=False)
-    return out
+def released(export_release):
+    """A release of the two configurations in every format and source, not verified (shared
+    with test_release)."""
+    return export_release[0]
 
 
 @pytest.fixture
