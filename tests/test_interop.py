@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import build_sample
+from conftest import EXPORT_SAMPLE
 
 from realikea.export.driver import export_configurations, export_folder
 from realikea.export.model import read_articulation
@@ -17,19 +17,17 @@ from realikea.interop.pull import breakaway_force, mujoco_pull, pybullet_pull
 from realikea.sim.resistance import mode
 from realikea.sources import SOURCES
 
-CONFIGS = {
-    "drawer": ("tp_round_bar_128", "drawer_w60_h20"),  # a bar: a gap behind it
-    "door": ("knob_round_30", "door_left_w40_h80"),
-}
+# the export sample's drawer with a bar (a gap behind it) and door with a knob
+CONFIGS = {name: EXPORT_SAMPLE[name] for name in ("drawer", "door")}
 
 
 @pytest.fixture(scope="module")
-def exported(tmp_path_factory, catalog, settings, cache_root):
+def exported(tmp_path_factory, catalog, export_library):
     """The drawer and the door exported to URDF and MJCF in high resistance (the drawer with both
-    collision sources); returns (library, exports, configurations by name)."""
-    library, out = tmp_path_factory.mktemp("library"), tmp_path_factory.mktemp("export")
+    collision sources) from the session's export library; returns (library, exports,
+    configurations by name)."""
+    library, out = export_library, tmp_path_factory.mktemp("export")
     configs = {n: next(catalog.configurations(part=p, base=b)) for n, (p, b) in CONFIGS.items()}
-    build_sample(list(configs.values()), settings, cache_root, library)
     for fmt in ("urdf", "mjcf"):
         for source, chosen in (("coacd", list(configs.values())), ("hull", [configs["drawer"]])):
             export_configurations(
