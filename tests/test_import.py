@@ -41,7 +41,10 @@ def _imported(root):
     return sorted(p.name for p in folder.iterdir()) if folder.exists() else []
 
 
-def test_import_builds_like_a_catalog_part(catalog_root, tmp_path, capsys):
+def test_import_builds_like_a_catalog_part(catalog_root, cache_root, tmp_path, capsys):
+    """An imported mesh is a catalog part: listed with its configurations and built, its meshes
+    cached in the project's content-addressed cache as a catalog part's are (keyed by the mesh
+    file's hash: a changed import is built afresh)."""
     source = tmp_path / "scan_knob.stl"
     _mushroom_knob_mm().export(source)
     args = ["assets", "import", str(source), "--category", "knob", "--scale", "0.001"]
@@ -56,7 +59,7 @@ def test_import_builds_like_a_catalog_part(catalog_root, tmp_path, capsys):
     out = tmp_path / "library"
     build_library(
         [config], WorkflowSettings.from_config(cfg),
-        SOURCES, tmp_path / "cache", out, progress=False,
+        SOURCES, cache_root, out, progress=False,
     )  # fmt: skip
     model = mujoco.MjModel.from_xml_path(str(out / config.id / "model_coacd.xml"))
     visual = trimesh.load_mesh(out / config.id / "meshes" / "visual.obj")
