@@ -71,8 +71,8 @@ class RunQueue:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
         out = [sys.executable, str(WORKSPACE / "train.py"), *run.overrides]
         out.append(f"hydra.run.dir={self.work / run.name}")
-        if any((self.work / run.name).glob("model_*.pt")):
-            last, path = checkpoints(self.work / run.name)[-1]
+        if (found := self._last_checkpoint(run)) is not None:
+            last, path = found
             out += [f"train.resume={path}", f"agent.max_iterations={run.iterations - last}"]
         return out
 
@@ -99,11 +99,16 @@ class RunQueue:
         run_dir = self.work / run.name
         return (run_dir / self.done(run)).is_file() or (run_dir / STOPPED_EARLY).is_file()
 
+    def _last_checkpoint(self, run: QueuedRun) -> tuple[int, Path] | None:
+        """The run's last checkpoint in `work` (iteration, path), or None."""
+        if not any((self.work / run.name).glob("model_*.pt")):
+            return None
+        return checkpoints(self.work / run.name)[-1]
+
     def last_checkpoint(self, run: QueuedRun) -> int:
         """The iteration of the run's last checkpoint in `work` (-1: none)."""
-        if not any((self.work / run.name).glob("model_*.pt")):
-            return -1
-        return checkpoints(self.work / run.name)[-1][0]
+        found = self._last_checkpoint(run)
+        return -1 if found is None else found[0]
 
     def may_stop(self, run: QueuedRun, since: int) -> bool:
         """Whether to stop `run` for parking: it has written a checkpoint after iteration `since`,
@@ -112,8 +117,15 @@ class RunQueue:
 
     def wall_times(self, run: QueuedRun) -> list[float]:
         """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
-        path = self.work / f"{run.name}.wall.json"
+        path = self._wall_path(run)
         return json.loads(path.read_text()) if path.is_file() else []
+
+    def _wall_path(self, run: QueuedRun) -> Path:
+        return self.work / f"{run.name}.wall.json"
+
+    def _record_wall(self, run: QueuedRun, seconds: list[float]) -> None:
+        """Write the wall seconds of the run's launches (the last one: so far)."""
+        atomic_write_text(self._wall_path(run), json.dumps(seconds) + "\n")
 
     def park(self, runs: list[QueuedRun]) -> list[Path]:
         """Copy each stopped run's resumable state to `parked`/NAME: its Hydra config, metrics,
@@ -143,7 +155,7 @@ class RunQueue:
         source, target = self.parked / run.name, self.work / run.name
         shutil.rmtree(target, ignore_errors=True)
         shutil.copytree(source, target, ignore=shutil.ignore_patterns("wall.json"))
-        shutil.copy2(source / "wall.json", self.work / f"{run.name}.wall.json")
+        shutil.copy2(source / "wall.json", self._wall_path(run))
 
     def _launch(self, run: QueuedRun) -> subprocess.Popen:
         self.work.mkdir(parents=True, exist_ok=True)
@@ -220,11 +232,11 @@ class RunQueue:
 
     def _record_orphan_launch(self, run: QueuedRun, seconds: float) -> None:
         """Write a launch's wall time in place of what its dead driver last recorded of it."""
-        path = self.work / f"{run.name}.wall.json"
         times = self.wall_times(run)
-        if times and path.stat().st_mtime >= (self.work / f"{run.name}.pid").stat().st_mtime:
+        launched = (self.work / f"{run.name}.pid").stat().st_mtime
+        if times and self._wall_path(run).stat().st_mtime >= launched:
             times.pop()  # the dead driver's last poll of this launch
-        atomic_write_text(path, json.dumps([*times, seconds]) + "\n")
+        self._record_wall(run, [*times, seconds])
         print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}", flush=True)
 
     def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
@@ -267,15 +279,14 @@ class RunQueue:
             time.sleep(POLL_SECONDS)
             for run, (proc, begin, earlier) in list(active.items()):
                 seconds = [*earlier, time.time() - begin]
-                atomic_write_text(self.work / f"{run.name}.wall.json", json.dumps(seconds) + "\n")
+                self._record_wall(run, seconds)
                 stopped = False
                 if proc.poll() is None:
                     if stop_after is not None and self.may_stop(run, stop_after[run]):
                         proc.send_signal(signal.SIGINT)
                         proc.wait()
                         seconds[-1] = time.time() - begin
-                        wall = json.dumps(seconds) + "\n"
-                        atomic_write_text(self.work / f"{run.name}.wall.json", wall)
+                        self._record_wall(run, seconds)
                         at = self.last_checkpoint(run)
                         print(f"stopped {run.name} at iteration {at}", flush=True)
                         del active[run]
