@@ -10,6 +10,7 @@ from omegaconf.errors import OmegaConfBaseException
 
 from realikea.errors import RealIkeaError
 from realikea.files import CONF_DIR
+from realikea.rewards import store_configs
 
 
 def config_number(node: DictConfig, key: str, path: str, minimum: float | None = None) -> float:
@@ -74,6 +75,7 @@ def load_config(overrides: list[str] | tuple[str, ...] = (), name: str = "config
     """A primary config (`config`: the shared one; `eval`: evaluation's) with Hydra-style
     `group=value` / `key=value` overrides applied."""
     GlobalHydra.instance().clear()
+    store_configs()
     try:
         with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
             cfg = compose(name, overrides=list(overrides))

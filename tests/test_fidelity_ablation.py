@@ -39,6 +39,7 @@ from realikea.reports.fidelity_ablation.tables import (
     failure_lines,
     interval_lines,
 )
+from realikea.rewards import store_configs
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
@@ -59,6 +60,7 @@ TINY = [
 
 def hydra_config(overrides):
     GlobalHydra.instance().clear()
+    store_configs()
     try:
         with initialize_config_dir(str(CONF_DIR), version_base="1.3"):
             return compose("config", overrides=overrides, return_hydra_config=True)

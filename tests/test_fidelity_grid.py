@@ -21,7 +21,7 @@ from realikea.files import WORKSPACE
 from realikea.policies.full_squeeze import FullSqueeze
 from realikea.reports.fidelity_ablation.compare import comparison_lines
 from realikea.reports.fidelity_ablation.runs import mode_overrides
-from realikea.tasks.rewards import variant_name
+from realikea.rewards import variant_name
 from realikea.training import fidelity_grid
 from realikea.training.metrics import join_launches
 

@@ -15,7 +15,7 @@ import realikea
 PACKAGE = Path(realikea.__file__).parent
 # bottom to top; a module may import its own layer and the layers below it
 LAYERS = (
-    ("errors", "files", "spawn", "config", "provenance", "sources", "markdown"),
+    ("errors", "files", "spawn", "rewards", "config", "provenance", "sources", "markdown"),
     ("sim",),
     ("assets", "tasks", "datasets"),
     ("fidelity",),  # measures the built library's meshes

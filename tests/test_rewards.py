@@ -6,16 +6,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from realikea.tasks.outcome import fractions, outcome
-from realikea.tasks.rewards.appendix import (
+from realikea.rewards.appendix import (
     AppendixParams,
     latched_stage,
     open_reward,
     staged_reward,
 )
-from realikea.tasks.rewards.terms import jerk_penalty
+from realikea.rewards.terms import jerk_penalty
+from realikea.tasks.outcome import fractions, outcome
 
-P = AppendixParams()
+P = AppendixParams(w_open2=0.0)  # the paper's constants
 OUTCOME = {"success": {"slide": 0.20, "hinge": 0.785}, "partial": {"slide": 0.02, "hinge": 0.087}}
 
 

@@ -16,11 +16,11 @@ from realikea.errors import RealIkeaError
 from realikea.policies.registry import make_policy
 from realikea.policies.rollout import episode
 from realikea.policies.scripted import CLOSE, Waypoint, WaypointPolicy
+from realikea.rewards import VARIANTS, reward_from_config, variant_name
+from realikea.rewards.gated import GatedParams, next_stage
+from realikea.rewards.terms import StepValues
 from realikea.tasks.grip import straddle_offset
 from realikea.tasks.open_task import OpenTask
-from realikea.tasks.rewards import VARIANTS, reward_from_config, variant_name
-from realikea.tasks.rewards.gated import GatedParams, next_stage
-from realikea.tasks.rewards.terms import StepValues
 
 P = GatedParams()
 GATED = VARIANTS["gated"]
@@ -258,6 +258,18 @@ def test_an_unknown_variant_is_refused_with_the_list_of_variants():
         load_config(["task/reward=shaped"])
     with pytest.raises(RealIkeaError, match="kappa not a constant of the 'gated'"):
         reward_from_config({"variant": "gated", "kappa": 15.0})
+
+
+def test_each_variants_config_is_its_params_defaults_and_refuses_other_keys():
+    """The params dataclass is the one schema: `task/reward=<variant>` composes to its defaults,
+    an override reaches the params, and a key it lacks is refused when composing."""
+    for name, variant in VARIANTS.items():
+        reward = load_config([f"task/reward={name}"]).task.reward
+        assert dict(reward) == {"variant": name, **dataclasses.asdict(variant.params())}
+    changed = load_config(["task.reward.w_close=3"]).task.reward
+    assert reward_from_config(changed)[1] == GatedParams(w_close=3.0)
+    with pytest.raises(RealIkeaError, match="w_nope"):
+        load_config(["task.reward.w_nope=1"])
 
 
 def test_a_config_naming_no_variant_is_the_appendix():

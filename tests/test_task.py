@@ -8,9 +8,9 @@ import pytest
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.rewards import VARIANTS
 from realikea.tasks import observations
 from realikea.tasks.open_task import OpenTask
-from realikea.tasks.rewards import VARIANTS
 
 PIN = ["asset=two_point", "asset.part=tp_round_bar_128", "asset.base=drawer_w60_h20"]
 

@@ -23,8 +23,8 @@ from tensordict import TensorDict
 from realikea.assets.catalog import group_name
 from realikea.errors import RealIkeaError
 from realikea.pool.env_pool import EnvPool
+from realikea.rewards import STAGES
 from realikea.tasks.outcome import OUTCOMES
-from realikea.tasks.rewards import STAGES
 from realikea.tasks.terminations import TERMINATIONS, TIMEOUT
 
 OBS_GROUPS = ("policy", "critic")

@@ -16,6 +16,7 @@ from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog, group_name
 from realikea.errors import RealIkeaError
+from realikea.rewards import StepValues, reward_from_config
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
 from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, GripperModel
 from realikea.sim.scene import (
@@ -48,7 +49,6 @@ from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonito
 from realikea.tasks.grip import NO_GRIP, GripSensor
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
-from realikea.tasks.rewards import StepValues, reward_from_config
 from realikea.tasks.start_state import PregraspStart
 from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 

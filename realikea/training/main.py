@@ -11,8 +11,11 @@ from omegaconf import DictConfig
 
 from realikea.eval.runs import check_eval_spec, evaluate_run
 from realikea.files import CONF_DIR
+from realikea.rewards import store_configs
 from realikea.training.preflight import user_errors
 from realikea.training.train import train
+
+store_configs()  # task/reward=<variant>, before Hydra composes
 
 
 @hydra.main(config_path=str(CONF_DIR), config_name="config", version_base="1.3")

@@ -17,7 +17,7 @@ from realikea.errors import RealIkeaError
 from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_saved, run_config
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
-from realikea.tasks.rewards import reward_from_config, variant_name
+from realikea.rewards import reward_from_config, variant_name
 from realikea.tasks.start_state import PregraspStart
 from realikea.training.distillation import (
     check_teachers,

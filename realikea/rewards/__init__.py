@@ -1,5 +1,8 @@
 """The task's reward as named terms of one variant (`task/reward=<variant>`): the weighted sum of
 the variant's terms in their order, times its `scale`; the task logs each term's episode sum.
+A variant's params dataclass is the one schema of its constants: `store_configs` gives Hydra the
+config group from its defaults. Pure Python on one env's numbers (no simulator), so the config
+layer can register it.
 
 Variants: `gated` (the default: stages read from the scene every step, grasp readiness from
 contact) and `appendix` (the paper's stages latched, what every committed checkpoint before the
@@ -9,12 +12,14 @@ gated variant was trained on). A config without `variant` is the appendix's.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
+from hydra.core.config_store import ConfigStore
+
 from realikea.errors import RealIkeaError
-from realikea.tasks.rewards import appendix, gated
-from realikea.tasks.rewards.terms import StepValues
+from realikea.rewards import appendix, gated
+from realikea.rewards.terms import StepValues
 
 DEFAULT_VARIANT = "appendix"  # what a config naming no variant was trained on
 STAGES = 4  # every variant's stages: approach, refine, close, open
@@ -75,3 +80,12 @@ def reward_from_config(reward_cfg: Mapping):
             f"variant (its constants: {', '.join(sorted(known))})"
         )
     return variant, variant.params(**values)
+
+
+def store_configs() -> None:
+    """Register `task/reward=<variant>` for every variant with Hydra: its name and its params'
+    defaults (the YAML a Hydra config group would otherwise need, written once)."""
+    store = ConfigStore.instance()
+    for name, variant in VARIANTS.items():
+        node = {"variant": name, **asdict(variant.params())}
+        store.store(group="task/reward", name=name, node=node)

@@ -1,6 +1,6 @@
 """The `gated` reward variant (the default): the paper's four stages, but each step's stage is
 read from the scene as it is then, with grasp readiness from contact; constants in
-`realikea/conf/task/reward/gated.yaml`. What showed each choice:
+`GatedParams`. What showed each choice:
 `experiments/reward_screen/README.md` ("Why the gated reward is built this way").
 
 The paper credits opening "only after grasp readiness is achieved", with "only one stage
@@ -50,7 +50,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from realikea.errors import RealIkeaError
-from realikea.tasks.rewards.terms import (
+from realikea.rewards.terms import (
     StageParams,
     StepValues,
     approach,
@@ -62,24 +62,27 @@ from realikea.tasks.rewards.terms import (
 
 @dataclass(frozen=True)
 class GatedParams(StageParams):
-    """The gated variant's constants (`realikea/conf/task/reward/gated.yaml` explains each)."""
+    """The gated variant's constants: `task/reward=gated` (the default) is built from these."""
 
-    scale: float = 0.01
-    w_open2: float = 2.0
-    w_close: float = 5.0
-    w_center: float = 0.0
-    w_app3: float = 0.0
-    w_hold: float = 2.0
-    w_progress: float = 120.0
-    w_rate: float = 1200.0
-    success_bonus: float = 60.0
-    refine_radius: float = 0.11
-    straddle_radius: float = 0.025
+    scale: float = 0.01  # every term: a step held at success pays about 2, value targets O(1-200)
+    w_close: float = 5.0  # stage 3 (straddling): x (1 - aperture)
+    w_center: float = (
+        0.0  # stage 3: x (1 - the handle site's distance from the pads' line / straddle_radius)
+    )
+    w_app3: float = 0.0  # stage 3: x -log(d2 + eps) towards t2 (at most w_hold)
+    w_hold: float = 2.0  # stage 4: x -log(d2 + eps), the hand stays at the handle
+    w_progress: float = 120.0  # stage 4: x min(opening / success threshold, 1)
+    w_rate: float = 1200.0  # stage 4: x that level's increase over the step
+    success_bonus: float = 60.0  # stage 4: from the success threshold on (20 cm, 45 deg)
+    refine_radius: float = 0.11  # m: stage 2 within this of t2 (|o1 - o2| = 6 cm plus tau1)
+    straddle_radius: float = 0.025  # m: stage 3 with the handle site this near the pads' line
+    # deg: stage 4 when a finger touches the part where its surface faces the front panel within
+    # this of the pull direction, reversed
     hook_angle: float = 70.0
-    w_push: float = 0.0
-    w_bound: float = 0.0
-    keep_opening: bool = True
-    push_force: float = 400.0
+    w_push: float = 0.0  # every stage: x -min(force pressing the closed front shut / push_force, 1)
+    w_bound: float = 0.0  # every step: x -sum (|a_i| - 1)^2 of the action beyond its clip
+    keep_opening: bool = True  # w_progress, w_rate, success_bonus paid in any stage once in stage 4
+    push_force: float = 400.0  # N at the handle
 
     def __post_init__(self):
         if self.beta < self.w_close + self.w_center:

@@ -1,5 +1,5 @@
 """The `appendix` reward variant: the paper's four stages, latched (a stage, once reached, is never
-left); constants in `realikea/conf/task/reward/appendix.yaml`. A checkpoint whose config names no
+left); constants in `AppendixParams`. A checkpoint whose config names no
 reward variant was trained on it.
 
 Stage 1 approaches a pre-grasp target t1 with the jaws open, stage 2 refines towards t2,
@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from realikea.tasks.rewards.terms import (
+from realikea.rewards.terms import (
     StageParams,
     StepValues,
     approach,
@@ -29,10 +29,11 @@ from realikea.tasks.rewards.terms import (
 
 @dataclass(frozen=True)
 class AppendixParams(StageParams):
-    """The paper's appendix constants (stages, weights) plus the auxiliary cost weights."""
+    """The paper's appendix constants (stages, weights) plus the auxiliary cost weights:
+    `task/reward=appendix` is built from these."""
 
-    kappa: float = 15.0
-    tau2: float = 0.02
+    kappa: float = 15.0  # stage 4: kappa log(100 q + 1)
+    tau2: float = 0.02  # m: stage 3 within this of t2, stage 4 once the jaws close there
 
 
 def open_reward(q: float, kappa: float) -> float:
