@@ -22,8 +22,8 @@ class StageParams:
     w_open1: float = 2.0  # stage 1: open jaws (aperture > open_above) ...
     w_app1: float = 2.0  # ... and -log(d1 + eps) towards the pre-grasp target t1
     # stage 2: open jaws (the paper: 0, which lets the jaws close before they straddle the
-    # handle; `appendix` then reaches stage 4 with nothing in the grasp: the generalist, seed 0,
-    # had 0.01 partial openings at iterations 170-200 with 0 and 0.07 with 2.0) ...
+    # handle, and `appendix` then reaches stage 4 with nothing in the grasp; why 2.0:
+    # experiments/generalist/README.md, "The open-jaw bonus decides which source learns") ...
     w_open2: float = 2.0
     w_app2: float = 2.0  # ... and -log(d2 + eps) towards the grasp target t2
     beta: float = 10.0  # stage 4: its baseline above M1 + M2
