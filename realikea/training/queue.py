@@ -173,11 +173,12 @@ class RunQueue:
         atomic_write_text(self.work / f"{run.name}.pid", f"{proc.pid}\n")
         return proc
 
-    def _interrupt(self, run: QueuedRun, proc: subprocess.Popen) -> None:
+    def _stop(self, run: QueuedRun, proc: subprocess.Popen, begin: float, seconds: list[float]):
+        """SIGINT a launch and wait for it to exit; its wall time counts up to the exit."""
         proc.send_signal(signal.SIGINT)
         proc.wait()
-        atomic_write_text(self.work / run.name / STOPPED_EARLY, f"exit {proc.returncode}\n")
-        print(f"stopped {run.name} early: its outcome is decided", flush=True)
+        seconds[-1] = time.time() - begin
+        self._record_wall(run, seconds)
 
     def show(self, runs: list[QueuedRun]) -> None:
         """Print each run's state and the command a launch would run now (a dry run)."""
@@ -283,17 +284,18 @@ class RunQueue:
                 stopped = False
                 if proc.poll() is None:
                     if stop_after is not None and self.may_stop(run, stop_after[run]):
-                        proc.send_signal(signal.SIGINT)
-                        proc.wait()
-                        seconds[-1] = time.time() - begin
-                        self._record_wall(run, seconds)
+                        self._stop(run, proc, begin, seconds)
                         at = self.last_checkpoint(run)
                         print(f"stopped {run.name} at iteration {at}", flush=True)
                         del active[run]
                         continue
                     if not self.stop_early(run):
                         continue
-                    self._interrupt(run, proc)
+                    self._stop(run, proc, begin, seconds)
+                    atomic_write_text(
+                        self.work / run.name / STOPPED_EARLY, f"exit {proc.returncode}\n"
+                    )
+                    print(f"stopped {run.name} early: its outcome is decided", flush=True)
                     stopped = True
                 del active[run]
                 if self.finished(run) and (proc.returncode == 0 or stopped):
