@@ -66,9 +66,8 @@ class GatedParams(StageParams):
 
     scale: float = 0.01  # every term: a step held at success pays about 2, value targets O(1-200)
     w_close: float = 5.0  # stage 3 (straddling): x (1 - aperture)
-    w_center: float = (
-        0.0  # stage 3: x (1 - the handle site's distance from the pads' line / straddle_radius)
-    )
+    # stage 3: x (1 - the handle site's distance from the pads' line / straddle_radius)
+    w_center: float = 0.0
     w_app3: float = 0.0  # stage 3: x -log(d2 + eps) towards t2 (at most w_hold)
     w_hold: float = 2.0  # stage 4: x -log(d2 + eps), the hand stays at the handle
     w_progress: float = 120.0  # stage 4: x min(opening / success threshold, 1)

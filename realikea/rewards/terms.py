@@ -29,9 +29,7 @@ class StageParams:
     beta: float = 10.0  # stage 4: its baseline above M1 + M2
     tau1: float = 0.05  # m: stage 2 within this of t1
     open_above: float = 0.6  # normalized aperture above this: open jaws
-    close_below: float = (
-        0.4  # below this: closed jaws (the observation's indicator, `appendix`'s gate)
-    )
+    close_below: float = 0.4  # below this: closed jaws (the observation's flag, appendix's gate)
     w_jerk: float = 0.05  # x -||a_t - 2 a_{t-1} + a_{t-2}||^2
     ik_cost: float = 1.0  # x -1 on a step whose IK target was infeasible
 
