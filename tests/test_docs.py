@@ -42,6 +42,8 @@ from pathlib import Path
 
 import pytest
 from hydra._internal.utils import get_args_parser
+from hydra.core.config_store import ConfigStore
+from hydra.core.object_type import ObjectType
 from omegaconf import OmegaConf
 
 from realikea.cli import build_parser, main
@@ -49,6 +51,7 @@ from realikea.config import load_config
 from realikea.eval.commands import with_default_command
 from realikea.eval.setup import eval_setup
 from realikea.files import CONF_DIR, WORKSPACE
+from realikea.rewards import store_configs
 
 DOCS = ["README.md", "DATASET.md", "realikea/catalog/README.md"] + [
     str(p.relative_to(WORKSPACE))
@@ -452,14 +455,21 @@ def anchors(doc: str) -> set[str]:
 # --- config groups and definitions named in prose -------------------------------------------
 
 
+def is_config_group(name: str) -> bool:
+    """Whether `name` is a Hydra config group: a folder of realikea/conf/ or a group registered
+    in code (`task/reward`, from the reward variants' params)."""
+    store_configs()
+    return (CONF_DIR / name).is_dir() or ConfigStore.instance().get_type(name) == ObjectType.GROUP
+
+
 def group_mentions() -> list[Mention]:
-    """Inline `group=option[|option...]` spans whose group is a folder of realikea/conf/."""
+    """Inline `group=option[|option...]` spans whose group is a config group."""
     return [
         Mention(doc, number, text)
         for doc in DOCS
         for number, text in inline_spans(doc)
         if re.fullmatch(r"\+?[\w/]+=[\w|]+", text)
-        and (CONF_DIR / text.lstrip("+").split("=")[0]).is_dir()
+        and is_config_group(text.lstrip("+").split("=")[0])
     ]
 
 
