@@ -24,10 +24,18 @@ SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "fl
 def load_script():
     """`load_script("experiments/x/y.py")`: an experiment's script imported as a module (the
     experiments folder is no package), its folder on sys.path while it loads, as when run, so
-    it can import its sibling scripts."""
+    it can import its sibling scripts. A module of a study's package
+    (`experiments/x/pkg/z.py`, beside an `__init__.py`) is imported as `pkg.z`, as its
+    scripts import it."""
 
     def load(relative: str):
         path = WORKSPACE / relative
+        if (path.parent / "__init__.py").is_file():
+            sys.path.insert(0, str(path.parent.parent))
+            try:
+                return importlib.import_module(f"{path.parent.name}.{path.stem}")
+            finally:
+                sys.path.remove(str(path.parent.parent))
         spec = importlib.util.spec_from_file_location(path.stem, path)
         module = importlib.util.module_from_spec(spec)
         sys.modules[path.stem] = module  # where dataclasses look their module up

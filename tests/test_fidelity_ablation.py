@@ -8,6 +8,7 @@ import math
 import shutil
 import subprocess
 import sys
+from types import SimpleNamespace
 
 import mujoco
 import pytest
@@ -22,9 +23,6 @@ from realikea.errors import RealIkeaError
 from realikea.eval.runs import eval_overrides
 from realikea.eval.stats import diff_interval, seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
-from realikea.reports.fidelity_ablation import videos
-from realikea.reports.fidelity_ablation.cells import aggregate, measured_runs, variant
-from realikea.reports.fidelity_ablation.report import report
 from realikea.reports.fidelity_ablation.runs import (
     _trained_iterations,
     command_overrides,
@@ -33,17 +31,12 @@ from realikea.reports.fidelity_ablation.runs import (
     schedule,
     trailing_mean,
 )
-from realikea.reports.fidelity_ablation.tables import (
-    compute_lines,
-    difference_lines,
-    failure_lines,
-    interval_lines,
-)
 from realikea.rewards import store_configs
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch
 
+REPORT = "experiments/fidelity_ablation/fidelity_report"
 TINY = [
     "asset=two_point",
     "asset.part=tp_round_bar_128",
@@ -56,6 +49,14 @@ TINY = [
     "agent.num_steps_per_env=8",
     "train.eval_after.episodes=2",
 ]
+
+
+@pytest.fixture(scope="module")
+def study(load_script):
+    """The study's report modules (experiments/fidelity_ablation/fidelity_report/), by name."""
+    return SimpleNamespace(
+        **{m: load_script(f"{REPORT}/{m}.py") for m in ("cells", "report", "tables", "videos")}
+    )
 
 
 def hydra_config(overrides):
@@ -214,13 +215,13 @@ def fake_coacd_run(run, target):
     (target / "videos" / "eval_hook_success.png").write_bytes(b"")
 
 
-def test_report_aggregates_runs_into_markdown_and_plots(sweep, tmp_path):
+def test_report_aggregates_runs_into_markdown_and_plots(study, sweep, tmp_path):
     root = tmp_path / "runs"
     shutil.copytree(sweep, root)
     run = root / "hull_smooth_two_point_franka_hand_s0"
     fake_coacd_run(run, root / "coacd_smooth_two_point_franka_hand_s0")
     out = tmp_path / "report"
-    assert report([root], out) == out / "report.md"
+    assert study.report.report([root], out) == out / "report.md"
     text = (out / "report.md").read_text()
     assert "2 runs from" in text
     # one seed a cell: Wilson's interval on 2 of 4 episodes, Newcombe's on the difference
@@ -259,10 +260,10 @@ def fake_phase_map(folder, coacd_success, hull_success):
     (folder / "phase_map.png").write_bytes(b"")
 
 
-def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_path):
+def test_the_report_shows_each_phase_map_with_its_tested_difference(study, sweep, tmp_path):
     fake_phase_map(tmp_path / "paper_map", coacd_success=0.5, hull_success=0.05)
     out = tmp_path / "report"
-    report([sweep], out, [tmp_path / "paper_map"])
+    study.report.report([sweep], out, [tmp_path / "paper_map"])
     text = (out / "report.md").read_text()
     assert "## Friction-trap phase maps" in text and "### ../paper_map" in text
     assert "Policies coacd, hull; elliptic cones; 2 cells of 20 episodes, test parts" in text
@@ -273,17 +274,17 @@ def test_the_report_shows_each_phase_map_with_its_tested_difference(sweep, tmp_p
 
 
 def test_a_phase_map_without_its_figure_or_cells_is_refused_before_anything_is_written(
-    sweep, tmp_path
+    study, sweep, tmp_path
 ):
     fake_phase_map(tmp_path / "map", coacd_success=0.5, hull_success=0.5)
     (tmp_path / "map" / "phase_map.png").unlink()
     out = tmp_path / "report"
     with pytest.raises(RealIkeaError, match="not a phase map.*phase_map.png"):
-        report([sweep], out, [tmp_path / "map"])
+        study.report.report([sweep], out, [tmp_path / "map"])
     (tmp_path / "map" / "phase_map.png").write_bytes(b"")
     (tmp_path / "map" / "cells.jsonl").write_text("")
     with pytest.raises(RealIkeaError, match="phase map without cells"):
-        report([sweep], out, [tmp_path / "map"])
+        study.report.report([sweep], out, [tmp_path / "map"])
     assert not out.exists()
     # the script prints the error and exits 2
     script = WORKSPACE / "experiments/fidelity_ablation/report.py"
@@ -292,19 +293,19 @@ def test_a_phase_map_without_its_figure_or_cells_is_refused_before_anything_is_w
     assert done.returncode == 2 and "error: phase map without cells" in done.stderr
 
 
-def test_the_interval_table_counts_the_seeds_that_learned():
+def test_the_interval_table_counts_the_seeds_that_learned(study):
     its = list(range(100))
     learned = {"metrics": {"/episode/success": (its, [0.0] * 50 + [0.9] * 50)}}
     never = {"metrics": {"/episode/success": (its, [0.0] * 100)}}
     key = ("coacd", "high", "two_point")
     cells = {key: {"high": {"runs": [(45, 50), (0, 50)], "seeds": 2}}}
-    lines = interval_lines(
+    lines = study.tables.interval_lines(
         cells, {key: [learned, never]}, ["coacd"], ["high"], ["two_point"], ["high"]
     )
     assert lines[-1].startswith("| coacd | high | two_point | 2 | 1 | 0.45 [")
 
 
-def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
+def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested(study):
     seeds = [(0, 50), (1, 50)]  # two seeds: a bootstrap over seeds and episodes
     coacd = {"runs": seeds, "failure_runs": {f: seeds for f in FAILURE_MODES}}
     slipping = [(30, 50), (40, 50)]
@@ -314,10 +315,10 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
         ("hull", "high", "two_point"): {"high": hull},
     }
     args = (cells, ["coacd", "hull"], ["high"], ["two_point"])
-    table = failure_lines(*args)
+    table = study.tables.failure_lines(*args)
     mean, lo, hi = seed_interval(slipping)
     assert table[-1].startswith(f"| hull | high | two_point | {mean:.2f} [{lo:.2f}, {hi:.2f}] |")
-    slip = difference_lines(*args, ["high"], "slip")
+    slip = study.tables.difference_lines(*args, ["high"], "slip")
     assert slip[0] == "## Slip rate: CoACD − hull"
     d, lo, hi = seed_difference(seeds, slipping)
     # the bootstrap's interval excludes zero, but two seeds a side are tested at the seed
@@ -328,11 +329,11 @@ def test_failure_modes_carry_intervals_and_the_slip_difference_is_tested():
     )
     assert hi < 0
     # success differs by nothing: the same table of success says so
-    same = difference_lines(*args, ["high"])
+    same = study.tables.difference_lines(*args, ["high"])
     assert same[-1].endswith("| not significant (seeds: p = 1.00) |")
 
 
-def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested():
+def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(study):
     def run(collision, hook):
         entry = {"fail": 0.0, "partial": 0.0, "success": 1.0, "episodes": 50,
                  "strategies": {"hook": hook, "pinch": 1.0 - hook}}  # fmt: skip
@@ -340,11 +341,11 @@ def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(
                 "iterations": 1500, "switch": 900, "resistance": "high",
                 "category": "two_point", "eval": {"modes": {"high": entry}}}  # fmt: skip
 
-    cells, _ = aggregate([run("coacd", 0.36), run("hull", 0.02)])
+    cells, _ = study.cells.aggregate([run("coacd", 0.36), run("hull", 0.02)])
     coacd = cells["coacd", "high", "two_point"]["high"]
     assert coacd["strategy_runs"]["hook"] == [(18, 50)] and coacd["strategies"]["hook"] == 0.36
     args = (cells, ["coacd", "hull"], ["high"], ["two_point"], ["high"])
-    hook = difference_lines(*args, "hook")
+    hook = study.tables.difference_lines(*args, "hook")
     assert hook[0] == "## Hook rate: CoACD − hull"
     lo, hi = diff_interval(18, 50, 1, 50)  # one seed a side: Newcombe's interval
     assert hook[-1] == (
@@ -353,7 +354,7 @@ def test_strategy_shares_are_counted_per_seed_and_the_hook_difference_is_tested(
     )
 
 
-def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
+def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference(study):
     def run(collision, hook, lever):
         shares = {"hook": hook, "lever": lever, "pinch": 1.0 - hook - lever}
         entry = {"fail": 0.0, "partial": 0.0, "success": 1.0, "episodes": 50, "strategies": shares}
@@ -362,11 +363,11 @@ def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
                 "category": "knob", "eval": {"modes": {"high": entry}}}  # fmt: skip
 
     runs = [run("coacd", 0.0, 0.56), run("hull", 0.04, 0.10)]
-    cells, _ = aggregate(runs)
+    cells, _ = study.cells.aggregate(runs)
     hull = cells["hull", "normal", "knob"]["high"]
-    assert measured_runs(hull, "form closure") == [(7, 50)]
+    assert study.cells.measured_runs(hull, "form closure") == [(7, 50)]
     args = (cells, ["coacd", "hull"], ["normal"], ["knob"], ["high"])
-    closure = difference_lines(*args, "form closure")
+    closure = study.tables.difference_lines(*args, "form closure")
     assert closure[0] == "## Form closure rate: CoACD − hull"
     lo, hi = diff_interval(28, 50, 7, 50)
     assert closure[-1] == (
@@ -374,10 +375,12 @@ def test_form_closure_adds_hooks_and_levers_per_seed_before_the_difference():
         "| significant |"
     )
     # a cell evaluated before strategy labels existed has no form-closure rate
-    assert measured_runs({"runs": [(50, 50)]}, "form closure") is None
+    assert study.cells.measured_runs({"runs": [(50, 50)]}, "form closure") is None
 
 
-def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path, monkeypatch):
+def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(
+    study, tmp_path, monkeypatch
+):
     run_dir = tmp_path / "hull_high_two_point_s0"
     run_dir.mkdir()
     (run_dir / "model_899.pt").write_bytes(b"")
@@ -392,9 +395,9 @@ def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path
     recorded = {**run, "dir": tmp_path / "recorded", "strips": [tmp_path / "eval_hook_success.png"]}
     calls = []
     monkeypatch.setattr(
-        videos, "evaluate_and_record", lambda overrides, stem: calls.append(overrides)
+        study.videos, "evaluate_and_record", lambda overrides, stem: calls.append(overrides)
     )
-    videos.record_videos([recorded, run], episodes=8)
+    study.videos.record_videos([recorded, run], episodes=8)
     (overrides,) = calls  # the run with strips already is not recorded again
     assert f"policy.path={(run_dir / 'model_899.pt').resolve()}" in overrides
     assert trained_at not in overrides and "episodes=50" not in overrides
@@ -403,16 +406,18 @@ def test_videos_are_recorded_once_from_the_checkpoint_kept_with_the_run(tmp_path
         command_overrides("python eval.py asset=two_point")
 
 
-def test_the_papers_schedule_is_its_own_variant_beside_the_grids():
+def test_the_papers_schedule_is_its_own_variant_beside_the_grids(study):
     def run(collision, iterations, switch):
         return {"collision": collision, "gripper": "franka_hand", "contact": "elliptic",
                 "iterations": iterations, "switch": switch}  # fmt: skip
 
     grid, paper = run("coacd", 900, 300), run("hull", 1500, 900)
-    assert variant(grid, presets=1) == "coacd"  # one schedule: no tag
-    assert variant(grid, 1, schedules=2) == "coacd (900 its, switch 300)"
-    assert variant(paper, 1, 2) == "hull (1500 its, switch 900)"
-    assert variant(paper, 2, 2) == ("hull (franka_hand, elliptic; 1500 its, switch 900)")
+    assert study.cells.variant(grid, presets=1) == "coacd"  # one schedule: no tag
+    assert study.cells.variant(grid, 1, schedules=2) == "coacd (900 its, switch 300)"
+    assert study.cells.variant(paper, 1, 2) == "hull (1500 its, switch 900)"
+    assert study.cells.variant(paper, 2, 2) == (
+        "hull (franka_hand, elliptic; 1500 its, switch 900)"
+    )
     assert schedule(run("coacd", 500, None)) == "500 its"  # fixed poses
     # the switch is read from the run's dr: only a two-phase schedule has one
     assert two_phase_switch({"mode": "two_phase", "switch_iteration": 900}) == 900
@@ -498,13 +503,13 @@ def test_ray_launcher_runs_the_experiment_on_a_local_ray_instance(tmp_path):
         assert list(report["modes"]) == ["high"] and report["modes"]["high"]["episodes"] == 2
 
 
-def test_compute_counts_a_resumed_runs_iterations_and_every_launchs_wall_time(tmp_path):
+def test_compute_counts_a_resumed_runs_iterations_and_every_launchs_wall_time(study, tmp_path):
     assert _trained_iterations({"checkpoint": "model_899.pt"}, 301) == 900
     assert _trained_iterations({}, 301) == 301  # no checkpoint named
     resumed = {"dir": tmp_path / "resumed", "iterations": 900, "launch_iterations": 301,
                "num_envs": 64, "eval": {"train_seconds": 602.0, "eval_seconds": 120.0},
                "wall": [3000.0, 1800.0]}  # fmt: skip
-    lines = compute_lines([resumed], tmp_path)
+    lines = study.tables.compute_lines([resumed], tmp_path)
     (row,) = [x for x in lines if x.startswith("| resumed |")]
     assert row == "| resumed | 900 | 64 | 301 | 10.0 | 2.00 | 2.0 | 80.0 |"
     assert lines[-1] == "Total compute (sum over runs; wall time where recorded): 1.33 h."

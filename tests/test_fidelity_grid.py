@@ -19,7 +19,6 @@ from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
 from realikea.policies.full_squeeze import FullSqueeze
-from realikea.reports.fidelity_ablation.compare import comparison_lines
 from realikea.reports.fidelity_ablation.runs import mode_overrides
 from realikea.rewards import variant_name
 from realikea.training import fidelity_grid
@@ -131,9 +130,10 @@ def test_a_sweep_over_a_group_value_that_does_not_exist_fails_before_writing(tmp
     assert not (tmp_path / "sweep").exists()
 
 
-def test_the_report_names_runs_without_eval_json_and_refuses_an_empty_root(tmp_path, capsys):
-    from realikea.reports.fidelity_ablation.report import report
-
+def test_the_report_names_runs_without_eval_json_and_refuses_an_empty_root(
+    tmp_path, capsys, load_script
+):
+    report = load_script("experiments/fidelity_ablation/fidelity_report/report.py").report
     (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra").mkdir(parents=True)
     (tmp_path / "runs" / "coacd_high_knob_s0" / ".hydra" / "config.yaml").write_text("a: 1\n")
     with pytest.raises(RealIkeaError, match="no finished runs"):
@@ -157,7 +157,10 @@ def test_a_resumed_runs_repeated_iteration_is_kept_once_from_the_later_launch():
     assert join_launches(earlier_only) == join_launches(lines)
 
 
-def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path):
+def test_two_runs_are_compared_mode_by_mode_with_intervals(tmp_path, load_script):
+    comparison_lines = load_script(
+        "experiments/fidelity_ablation/fidelity_report/compare.py"
+    ).comparison_lines
     for name, success in (("a", 0.46), ("b", 0.70)):
         (tmp_path / name).mkdir()
         modes = {"high": {"success": success, "episodes": 50}}

@@ -11,8 +11,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from fidelity_report.compare import comparison_lines
+
 from realikea.errors import RealIkeaError
-from realikea.reports.fidelity_ablation.compare import comparison_lines
 
 
 def main(argv: list[str] | None = None) -> int:

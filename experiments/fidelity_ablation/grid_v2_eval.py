@@ -22,12 +22,12 @@ from __future__ import annotations
 import argparse
 import sys
 
+from fidelity_report.videos import record_videos
 from grid_v2 import KEPT, RECIPE_OVERRIDES
 
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import rerun
 from realikea.reports.fidelity_ablation.runs import find_runs
-from realikea.reports.fidelity_ablation.videos import record_videos
 from realikea.reports.phase_map import evaluate_phase_map, map_policy
 
 OWN = "hull"  # the runs whose own geometry is not the protocol's

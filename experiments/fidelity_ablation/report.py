@@ -24,11 +24,12 @@ import argparse
 import sys
 from pathlib import Path
 
+from fidelity_report.report import report
+from fidelity_report.videos import record_videos
+
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
-from realikea.reports.fidelity_ablation.report import report
 from realikea.reports.fidelity_ablation.runs import find_runs
-from realikea.reports.fidelity_ablation.videos import record_videos
 
 DEFAULT_OUT = "experiments/fidelity_ablation/results"  # the committed report
 

@@ -8,7 +8,8 @@ from realikea.eval.protocol import outcome_table
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.video import record_draw
 from realikea.reports.fidelity_ablation.runs import command_overrides
-from realikea.reports.fidelity_ablation.tables import relative
+
+from .tables import relative
 
 
 def record_videos(runs: list[dict], episodes: int) -> None:

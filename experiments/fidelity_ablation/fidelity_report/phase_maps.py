@@ -7,9 +7,10 @@ from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.reports.fidelity_ablation.runs import command_overrides
-from realikea.reports.fidelity_ablation.tables import relative
 from realikea.reports.multiplicity import holm_lines
 from realikea.reports.phase_map import difference_grid_lines, differences, read_cells
+
+from .tables import relative
 
 
 def phase_map_lines(maps: Sequence[Path], out: Path) -> list[str]:

@@ -8,13 +8,6 @@ from pathlib import Path
 import numpy as np
 
 from realikea.markdown import table
-from realikea.reports.fidelity_ablation.cells import (
-    FORM_CLOSURE,
-    STRATEGY_LABELS,
-    paired_differences,
-    present_cells,
-    rate_interval,
-)
 from realikea.reports.fidelity_ablation.runs import (
     PLATEAU_WINDOW,
     iterations_to_success,
@@ -24,6 +17,14 @@ from realikea.reports.fidelity_ablation.runs import (
 from realikea.sim.resistance import MODES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.outcome import OUTCOMES
+
+from .cells import (
+    FORM_CLOSURE,
+    STRATEGY_LABELS,
+    paired_differences,
+    present_cells,
+    rate_interval,
+)
 
 
 def _fmt(value, digits=2) -> str:

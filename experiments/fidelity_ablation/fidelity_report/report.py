@@ -8,21 +8,25 @@ from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
-from realikea.reports.fidelity_ablation.cells import (
+from realikea.reports.fidelity_ablation.runs import find_runs, unfinished_runs
+from realikea.reports.multiplicity import holm_lines
+from realikea.sim.resistance import MODES
+from realikea.sources import SOURCES
+
+from .cells import (
     aggregate,
     ordered,
     paired_differences,
     strategy_totals,
 )
-from realikea.reports.fidelity_ablation.phase_maps import phase_map_lines
-from realikea.reports.fidelity_ablation.plots import (
+from .phase_maps import phase_map_lines
+from .plots import (
     plot_learning_curves,
     plot_outcomes,
     plot_strategies,
     plot_success,
 )
-from realikea.reports.fidelity_ablation.runs import find_runs, unfinished_runs
-from realikea.reports.fidelity_ablation.tables import (
+from .tables import (
     compute_lines,
     difference_lines,
     failure_lines,
@@ -32,10 +36,7 @@ from realikea.reports.fidelity_ablation.tables import (
     relative,
     strategy_lines,
 )
-from realikea.reports.fidelity_ablation.videos import frame_lines
-from realikea.reports.multiplicity import holm_lines
-from realikea.sim.resistance import MODES
-from realikea.sources import SOURCES
+from .videos import frame_lines
 
 # the report's CoACD − hull tables, (evaluation modes, None = every mode; measure): the family
 # Holm's correction counts; success comes first, in its own table before the failure modes
@@ -64,43 +65,17 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
     plot_outcomes(cells, variants, resistances, categories, modes, out / "outcomes.png")
     plot_strategies(totals, variants, categories, out / "strategies.png")
     plot_learning_curves(by_cell, variants, resistances, categories, out / "learning_curves.png")
-    presets = sorted({(r["gripper"], r["contact"]) for r in runs})
-    episodes = sorted({r["eval"]["episodes"] for r in runs})
-    splits = sorted({r["eval"].get("split", "all") for r in runs})
-    scenes = sorted({r["scene"] for r in runs})
-    seeds = sorted({r["seed"] for r in runs})
     root = roots[0] if len(roots) == 1 else Path.cwd()
     lines = [
         "# Fidelity ablation",
         "",
-        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; scene "
-        f"{', '.join(scenes)}; evaluation split {'/'.join(splits)}; "
-        f"gripper/contact presets: {', '.join('/'.join(p) for p in presets)}; "
-        f"training seeds {', '.join(map(str, seeds))}; "
-        f"{'/'.join(map(str, episodes))} evaluation episodes per run and mode "
-        "(`train.eval_after`, the last checkpoint).",
+        provenance(runs, roots),
         "",
         "![success](success.png)",
         "",
         *interval_lines(cells, by_cell, variants, resistances, categories, modes),
         "",
-        *difference_lines(cells, variants, resistances, categories, modes),
-        "",
-        *failure_lines(cells, variants, resistances, categories),
-        "",
-        *[
-            line
-            for tested_modes, measure in TESTED[1:]
-            for line in [*difference_lines(*axes, tested_modes, measure), ""]
-        ],
-        *holm_lines(
-            [
-                diff
-                for tested_modes, measure in TESTED
-                for _, diff in paired_differences(*axes, tested_modes or modes, measure)
-            ],
-            "Every difference at once (Holm)",
-        ),
+        *tested_lines(axes, modes),
         "",
         *outcome_tables(cells, variants, resistances, categories, modes),
         "",
@@ -127,3 +102,45 @@ def report(roots: list[Path], out: Path, phase_maps: Sequence[Path] = ()) -> Pat
     path = out / "report.md"
     atomic_write_text(path, "\n".join(lines) + "\n")
     return path
+
+
+def provenance(runs: list[dict], roots: list[Path]) -> str:
+    """The report's first sentence: which runs, scene, split, presets, seeds and episodes."""
+    presets = sorted({(r["gripper"], r["contact"]) for r in runs})
+    episodes = sorted({r["eval"]["episodes"] for r in runs})
+    splits = sorted({r["eval"].get("split", "all") for r in runs})
+    scenes = sorted({r["scene"] for r in runs})
+    seeds = sorted({r["seed"] for r in runs})
+    return (
+        f"{len(runs)} runs from {', '.join(str(r) for r in roots)}; scene "
+        f"{', '.join(scenes)}; evaluation split {'/'.join(splits)}; "
+        f"gripper/contact presets: {', '.join('/'.join(p) for p in presets)}; "
+        f"training seeds {', '.join(map(str, seeds))}; "
+        f"{'/'.join(map(str, episodes))} evaluation episodes per run and mode "
+        "(`train.eval_after`, the last checkpoint)."
+    )
+
+
+def tested_lines(axes: tuple, modes: list[str]) -> list[str]:
+    """The CoACD − hull tables of TESTED (success first, then the failure modes' table, then
+    the others) and Holm's correction over all of their differences at once."""
+    cells, variants, resistances, categories = axes
+    return [
+        *difference_lines(*axes, modes),
+        "",
+        *failure_lines(cells, variants, resistances, categories),
+        "",
+        *[
+            line
+            for tested_modes, measure in TESTED[1:]
+            for line in [*difference_lines(*axes, tested_modes, measure), ""]
+        ],
+        *holm_lines(
+            [
+                diff
+                for tested_modes, measure in TESTED
+                for _, diff in paired_differences(*axes, tested_modes or modes, measure)
+            ],
+            "Every difference at once (Holm)",
+        ),
+    ]

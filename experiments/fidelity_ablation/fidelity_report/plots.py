@@ -7,9 +7,10 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from realikea.reports.fidelity_ablation.cells import STRATEGY_LABELS
 from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
 from realikea.tasks.outcome import OUTCOMES
+
+from .cells import STRATEGY_LABELS
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
