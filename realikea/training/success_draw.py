@@ -1,10 +1,8 @@
 """A training draw that follows training success: groups that have not learned get more envs.
 
-Why: over the committed generalist runs each seed leaves a different category × kind unlearned
-(`experiments/generalist/results/groups.md`: `default` s0 the doors, s2 the finger-pull doors;
-`default_doors2` s1 the finger-pull drawers, which `default` s1 opens), and neither a fixed
-extra weight on doors (`asset.group_weights={door:2}`) nor 1,000 more iterations brought an
-unlearned group to 0.5. So the weight follows the run: every `every` iterations, each group
+Why: which category × kind a run leaves unlearned differs by seed, so a fixed weight cannot
+name it in advance (the runs behind this: `experiments/generalist/README.md`, "A draw that
+follows training success"). So the weight follows the run: every `every` iterations, each group
 whose training success over those iterations is below `below` (or that finished no episode)
 takes `weight` turns of the stratified draw for every one of the others; envs move from the
 groups that lost share to those that gained it, each to its group's next configuration, and
