@@ -51,7 +51,7 @@ def test_registered_comparisons_by_hand(report, tmp_path):
     for seed, hook in zip(range(100, 105), (0.2, 0.3, 0.1, 0.4, 0.25), strict=True):
         make_run(tmp_path, "hull", "high", "two_point", seed, 0.8, hook)
     make_run(tmp_path, "hull", "high", "two_point", 105, 0.0, learned=False)  # a dead run
-    assert report.main() == 0
+    assert report.main([]) == 0
     results = json.loads((tmp_path / "comparisons.json").read_text())
     first, *rest = results["registered"]
     # the dead hull run counts 0: hull mean 0.25 * 5 / 6
@@ -81,7 +81,7 @@ def test_smooth_policies_in_high_are_compared_within_each_category(report, tmp_p
         for seed in (100, 101):
             make_run(tmp_path, "coacd", "smooth", category, seed, level + 0.02 * (seed - 99))
             make_run(tmp_path, "hull", "smooth", category, seed, level - 0.02 * (seed - 99))
-    assert report.main() == 0
+    assert report.main([]) == 0
     third = json.loads((tmp_path / "comparisons.json").read_text())["registered"][2]
     assert [len(a) for a, _ in third["values"]] == [2, 2, 2]
     assert third["difference"] == pytest.approx(0.06)
@@ -96,7 +96,7 @@ def test_an_interval_no_shift_bounds_is_written_as_infinite(report, tmp_path):
     for collision, hook in (("coacd", 0.9), ("hull", 0.1)):
         for seed in (100, 101, 102):
             make_run(tmp_path, collision, "high", "two_point", seed, 0.8, hook)
-    assert report.main() == 0
+    assert report.main([]) == 0
     first = json.loads((tmp_path / "comparisons.json").read_text())["registered"][0]
     assert first["p"] == pytest.approx(0.1) and (first["low"], first["high"]) == (None, None)
     assert (

@@ -10,6 +10,7 @@ Usage: python experiments/benchmarks/bench_ik.py
 
 from __future__ import annotations
 
+import argparse
 import platform
 import time
 from importlib.metadata import version
@@ -72,7 +73,8 @@ def timed(solve, inputs) -> float:
     return (time.thread_time() - start) / len(inputs)
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     cfg = load_config()
     ik = IKController.from_config(cfg)
     plain = PlainMinkStep(ik)

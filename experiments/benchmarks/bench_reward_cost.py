@@ -9,6 +9,7 @@ Prints steps/s and microseconds of reward-side work per step for each variant.
 
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -18,7 +19,8 @@ from realikea.config import load_config
 from realikea.tasks.open_task import OpenTask
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     for variant in ("appendix", "gated", "appendix", "gated"):
         cfg = load_config(
             ["asset=two_point", "asset.kind=drawer", "dr=fixed", f"task/reward={variant}"]

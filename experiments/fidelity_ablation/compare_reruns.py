@@ -9,6 +9,7 @@ row per run: identical, or the largest absolute difference and where.
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from pathlib import Path
@@ -42,10 +43,11 @@ def compare(old: dict, new: dict) -> tuple[float, str]:
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) != 2:
-        print("usage: compare_reruns.py OLD_RUNS_DIR NEW_RUNS_DIR", file=sys.stderr)
-        return 2
-    old_dir, new_dir = (Path(a) for a in argv)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("old_dir", type=Path, metavar="OLD_RUNS_DIR")
+    parser.add_argument("new_dir", type=Path, metavar="NEW_RUNS_DIR")
+    args = parser.parse_args(argv)
+    old_dir, new_dir = args.old_dir, args.new_dir
     old_files = sorted(old_dir.glob("*/eval.json"))
     if not old_files:
         print(f"compare_reruns.py: no <run>/eval.json under {old_dir}", file=sys.stderr)

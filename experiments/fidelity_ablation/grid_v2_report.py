@@ -11,6 +11,7 @@ runs: grid_v2_comparisons.py) and report.md (tables of both).
 
 from __future__ import annotations
 
+import argparse
 import csv
 import io
 import json
@@ -122,7 +123,8 @@ def cell_lines(runs: list[dict]) -> list[str]:
     return lines
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     runs = load_runs()
     learned = [r for r in runs if r["learned_at"] is not None]
     results = {"registered": family(runs), "sensitivity_learned_only": family(learned)}

@@ -8,6 +8,7 @@ wall time. Writes experiments/fidelity_ablation/results/grid_v2/pilot.md.
 
 from __future__ import annotations
 
+import argparse
 import json
 from pathlib import Path
 
@@ -56,7 +57,8 @@ def row(run_dir: Path, where: str) -> str:
     )
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     found = [(d, "kept") for d in sorted(KEPT.glob("*")) if d.is_dir()]
     found += [(d, "parked") for d in sorted(PARKED.glob("*")) if d.is_dir()]
     named = {d.name for d, _ in found}

@@ -11,6 +11,7 @@ test parts are `evaluate.py`'s.
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from train_gated import RECIPES  # this folder's: the recipes it trains
@@ -43,7 +44,8 @@ def group_row(run: Path) -> list[str]:
     return cells
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     groups = [f"{c} {k}" for k in KINDS for c in CATEGORIES]
     lines = [
         "# Training success per category × kind of the `gated` generalists and door specialists",

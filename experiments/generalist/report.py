@@ -15,6 +15,7 @@ all cells pooled (the comparisons named before those runs); the door specialists
 
 from __future__ import annotations
 
+import argparse
 import json
 from pathlib import Path
 
@@ -161,7 +162,8 @@ def figures(grids: dict[str, dict]) -> dict:
     return out
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     grids = {name: read_cells(RESULTS / name / "cells.jsonl") for name in GRIDS}
     grids = {name: cells for name, cells in grids.items() if cells}
     lines = ["# The generalist on the held-out parts", ""]

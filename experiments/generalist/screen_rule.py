@@ -13,6 +13,7 @@ when the candidate is adopted, 1 when not, 2 on bad input.
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -44,10 +45,12 @@ def passes(values: dict[str, float | None]) -> bool:
 
 
 def main(argv: list[str]) -> int:
-    runs = [Path(a) for a in argv]
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("runs", nargs="+", type=Path, metavar="RUN_DIR", help="one per seed")
+    runs = parser.parse_args(argv).runs
     missing = [r for r in runs if not (r / "metrics.csv").is_file()]
-    if not runs or missing:
-        print(f"usage: screen_rule.py RUN_DIR ...; no metrics.csv in {missing}", file=sys.stderr)
+    if missing:
+        print(f"screen_rule.py: no metrics.csv in {', '.join(map(str, missing))}", file=sys.stderr)
         return 2
     print("| run | " + " | ".join(GROUPS) + " | passes |")
     print("|---|" + "---:|" * len(GROUPS) + "---|")

@@ -10,6 +10,7 @@ stays feasible. Prints `down/up` (rad) per point; `x` where the point itself was
     python experiments/reach/reach.py
 """
 
+import argparse
 import math
 
 import numpy as np
@@ -52,7 +53,8 @@ def reach(home, dx: float, h: float, roll: float, sign: int) -> float | None:
     return best
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     home = np.asarray(load_config([]).sim.robot.home, float)
     heights = (0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
     for roll in (0.0, math.pi / 2):

@@ -13,6 +13,8 @@ iteration (`/end_stage/<k>`, averaged over its last SUCCESS_WINDOW iterations).
 
 from __future__ import annotations
 
+import argparse
+
 from realikea.files import WORKSPACE
 from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
 from realikea.training.metrics import read_metrics
@@ -21,7 +23,8 @@ FOLDERS = [WORKSPACE / "experiments/reward_screen/results" / name for name in ("
 AT = (20, 60, 120)  # iterations at which the spread is shown
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     print("| run | folder | std at " + ", ".join(map(str, AT)) + ", last (its) | "
           "end stage 1 / 2 / 3 / 4, last 20 its |")  # fmt: skip
     print("|---|---|---|---|")

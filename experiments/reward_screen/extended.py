@@ -8,6 +8,8 @@ experiments/reward_screen/results/extended/NAME/metrics.csv; prints a markdown t
 
 from __future__ import annotations
 
+import argparse
+
 from realikea.files import WORKSPACE
 from realikea.reports.fidelity_ablation.runs import (
     SUCCESS_WINDOW,
@@ -19,7 +21,8 @@ from realikea.training.metrics import read_metrics
 EXTENDED = WORKSPACE / "experiments/reward_screen/results/extended"
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     print("| run | iterations | learned at | success | opening (m) | stage 4 |")
     print("|---|---|---:|---:|---:|---:|")
     for run in sorted(p for p in EXTENDED.iterdir() if (p / "metrics.csv").is_file()):

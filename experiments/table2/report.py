@@ -9,6 +9,7 @@ Usage: python experiments/table2/report.py
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import csv
 import json
@@ -200,7 +201,8 @@ def sweep_section(sweep: dict) -> list[str]:
     return ["## Where the trap appears: the grip force", "", *table(header, "llrlr", rows)]
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     presets = {}
     for kind in KINDS:
         presets.update(load(f"{kind}/*_*/table2.csv"))
