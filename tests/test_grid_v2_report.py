@@ -122,3 +122,28 @@ def test_the_extra_evaluations_pick_hull_runs_and_the_two_point_high_policies(
         f"{name}={tmp_path / name / 'model_599.pt'}"
         for name in ("coacd_high_two_point_s100", "hull_high_two_point_s100")
     ]
+
+
+def test_the_frames_are_chosen_by_rule_one_per_cell(report, tmp_path):
+    def strip(run, label):
+        (run / "videos").mkdir(exist_ok=True)
+        (run / "videos" / f"eval_{label}_success.png").write_bytes(b"png")
+
+    for seed in (100, 101):
+        strip(make_run(tmp_path, "coacd", "high", "two_point", seed, 0.8, 1.0), "hook")
+    hull = [make_run(tmp_path, "hull", "high", "two_point", s, 0.8, 0.5) for s in (100, 101)]
+    strip(hull[1], "hook")  # only the second hull seed recorded a hook
+    strip(hull[0], "pinch")
+    strip(make_run(tmp_path, "hull", "smooth", "knob", 100, 0.8), "pinch")
+    assert report.main([]) == 0
+    text = (tmp_path / "report.md").read_text().split("## Frames")[1]
+    two_point, hooks, levers, pinches = text.split("### ")[1:]
+    shown = "![{0} {1}]({0}/videos/eval_{1}_success.png)"
+    assert shown.format("coacd_high_two_point_s100", "hook") in two_point
+    assert "coacd, `pinch`: no recorded success." in two_point
+    assert shown.format("hull_high_two_point_s101", "hook") in two_point
+    assert shown.format("hull_high_two_point_s100", "pinch") in two_point
+    # one strip per cell: the second CoACD seed's hook repeats the first's cell
+    assert hooks.count("![") == 2 and "coacd_high_two_point_s101" not in hooks
+    assert levers.startswith("`lever`: 0 successes") and "![" not in levers
+    assert pinches.count("![") == 2 and shown.format("hull_smooth_knob_s100", "pinch") in pinches

@@ -6,7 +6,8 @@ Reads results/grid_v2/<collision>_<resistance>_<category>_s<seed>/ (eval.json on
 run's eval_hull.json on its own hull, metrics.csv) and results/grid_v2/phase_map/cells.jsonl
 (grid_v2_eval.py). Writes beside them runs.csv (one row a run), comparisons.json (the four
 registered comparisons, Holm-corrected, then the registered sensitivity analysis without dead
-runs: grid_v2_comparisons.py) and report.md (tables of both).
+runs: grid_v2_comparisons.py) and report.md (tables of both, then the frames grid_v2_frames.py
+chooses).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from grid_v2_comparisons import (
     success,
 )
 from grid_v2_eval import OWN, OWN_FILE, PHASE_FRICTION, PHASE_RESULTS, kept_records
+from grid_v2_frames import frame_lines
 
 from realikea.files import atomic_write_text
 from realikea.reports.fidelity_ablation.runs import iterations_to_success
@@ -154,6 +156,7 @@ def main(argv: list[str] | None = None) -> int:
         "",
         *comparison_lines(results["sensitivity_learned_only"]),
         "",
+        *frame_lines(runs),
     ]
     atomic_write_text(KEPT / "report.md", "\n".join(lines))
     print(f"report: {KEPT / 'report.md'}")
