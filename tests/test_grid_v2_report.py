@@ -73,6 +73,10 @@ def test_registered_comparisons_by_hand(report, tmp_path):
     assert "| two_point | high | hull | 6 / 5 | 5 |" in text and "not computable yet" in text
     # the phase map has not run: comparison 4 has 11 kept policies without a value
     assert "| 0 / 0 (11 kept, not yet evaluated) | not computable yet |" in text
+    # each policy's episodes: 0.9 of its 40 successes hooked; the dead run has no successes
+    assert "| 1 | `coacd_high_two_point_s100` | 0.90 | 36 / 40 | [0.77, 0.96] |" in text
+    assert "| 1 | `hull_high_two_point_s105` | 0.00 | 0 / 0 | – |" in text
+    assert "| 4 | `hull_high_two_point_s105` | not yet evaluated | | |" in text
 
 
 def test_smooth_policies_in_high_are_compared_within_each_category(report, tmp_path):

@@ -11,11 +11,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from grid_v2 import CATEGORIES, COLLISIONS
-from grid_v2_eval import PHASE_FORCES, PHASE_FRICTION
+from grid_v2_eval import PHASE_EPISODES, PHASE_FORCES, PHASE_FRICTION
 
 from realikea.eval.permutation import shift_interval, stratified_difference
 from realikea.eval.permutation import stratified_permutation_p as permutation_p
-from realikea.eval.stats import holm
+from realikea.eval.stats import holm, wilson
 
 FORM_CLOSURE = ("hook", "lever")
 
@@ -28,6 +28,25 @@ def share(run: dict, labels, mode: str = "high") -> float:
     """The share of the run's CoACD successes in `mode` labelled one of `labels` (0 with none)."""
     entry = run["evals"]["coacd"]["modes"][mode]
     return sum(entry["success_strategies"][label] for label in labels)
+
+
+def success_counts(run: dict) -> tuple[int, int]:
+    """(successes, episodes) of the run on CoACD in high."""
+    entry = run["evals"]["coacd"]["modes"]["high"]
+    return round(entry["success"] * entry["episodes"]), entry["episodes"]
+
+
+def share_counts(run: dict, labels) -> tuple[int, int]:
+    """(successes labelled one of `labels`, successes) on CoACD in high."""
+    successes = success_counts(run)[0]
+    return round(share(run, labels) * successes), successes
+
+
+def phase_counts(run: dict) -> tuple[int, int] | None:
+    """(successes, episodes) over the run's hard-pad phase-map cells, PHASE_EPISODES each."""
+    value = phase_success(run)
+    episodes = PHASE_EPISODES * len(PHASE_FORCES)
+    return None if value is None else (round(value * episodes), episodes)
 
 
 def phase_success(run: dict) -> float | None:
@@ -43,18 +62,20 @@ class Comparison:
     label: str
     cells: tuple[tuple[str, str], ...]  # (category, training resistance) per stratum
     value: object  # run -> float (None: not yet evaluated)
+    counts: object  # run -> (k, n) episodes behind the value, for its episode-level interval
 
 
 REGISTERED = (
     Comparison("1. two-point x high: hook share of successes", (("two_point", "high"),),
-               lambda r: share(r, ("hook",))),
+               lambda r: share(r, ("hook",)), lambda r: share_counts(r, ("hook",))),
     Comparison("2. knob x high: form-closure (hook + lever) share of successes",
-               (("knob", "high"),), lambda r: share(r, FORM_CLOSURE)),
+               (("knob", "high"),), lambda r: share(r, FORM_CLOSURE),
+               lambda r: share_counts(r, FORM_CLOSURE)),
     Comparison("3. trained in smooth, evaluated in high: success (stratified by category)",
-               tuple((c, "smooth") for c in CATEGORIES), success),
+               tuple((c, "smooth") for c in CATEGORIES), success, success_counts),
     Comparison(f"4. hard-pad phase map (mu {PHASE_FRICTION:g}, "
                f"{'/'.join(f'{f:g}' for f in PHASE_FORCES)} N): two-point x high success",
-               (("two_point", "high"),), phase_success),
+               (("two_point", "high"),), phase_success, phase_counts),
 )  # fmt: skip
 
 
@@ -115,4 +136,27 @@ def comparison_lines(results: list[dict]) -> list[str]:
             f"[{_end(r['low'], '−∞')}, {_end(r['high'], '∞')}] | {r['p']:.4f} | "
             f"{r['p_holm']:.4f} | {verdict} |"
         )
+    return lines
+
+
+def policy_lines(runs: list[dict]) -> list[str]:
+    """Each policy's value in each registered comparison, with its episodes and the Wilson
+    interval over them (a share: over the policy's successes; none: no interval)."""
+    lines = [
+        "| comparison | policy | value | k / n episodes | episode-level [95 %] |",
+        "|---|---|---:|---:|---|",
+    ]
+    for comparison in REGISTERED:
+        number = comparison.label.split(".")[0]
+        cells = set(comparison.cells)
+        for run in sorted(runs, key=lambda r: r["name"]):
+            if (run["category"], run["resistance"]) not in cells:
+                continue
+            found = comparison.counts(run)
+            if found is None:
+                lines.append(f"| {number} | `{run['name']}` | not yet evaluated | | |")
+                continue
+            (k, n), value = found, comparison.value(run)
+            interval = "–" if n == 0 else "[{:.2f}, {:.2f}]".format(*wilson(k, n))
+            lines.append(f"| {number} | `{run['name']}` | {value:.2f} | {k} / {n} | {interval} |")
     return lines

@@ -25,6 +25,7 @@ from grid_v2_comparisons import (
     comparison_lines,
     family,
     phase_success,
+    policy_lines,
     share,
     success,
 )
@@ -155,6 +156,10 @@ def main(argv: list[str] | None = None) -> int:
         "## Sensitivity analysis (registered): only the runs that learned",
         "",
         *comparison_lines(results["sensitivity_learned_only"]),
+        "",
+        "## Each policy's value in the registered comparisons, with its episodes",
+        "",
+        *policy_lines(runs),
         "",
         *frame_lines(runs),
     ]
