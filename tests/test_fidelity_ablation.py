@@ -23,15 +23,9 @@ from realikea.errors import RealIkeaError
 from realikea.eval.runs import eval_overrides
 from realikea.eval.stats import diff_interval, seed_difference, seed_interval
 from realikea.files import CONF_DIR, WORKSPACE
-from realikea.reports.fidelity_ablation.runs import (
-    _trained_iterations,
-    command_overrides,
-    iterations_to_success,
-    last_windows,
-    schedule,
-    trailing_mean,
-)
 from realikea.rewards import store_configs
+from realikea.runs.curves import iterations_to_success, last_windows, trailing_mean
+from realikea.runs.records import _trained_iterations, command_overrides, schedule
 from realikea.tasks.contacts import STRATEGIES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.randomization import two_phase_switch

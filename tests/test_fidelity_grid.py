@@ -19,17 +19,23 @@ from realikea.eval.runs import check_eval_spec, eval_overrides
 from realikea.eval.setup import eval_setup
 from realikea.files import WORKSPACE
 from realikea.policies.full_squeeze import FullSqueeze
-from realikea.reports.fidelity_ablation.runs import mode_overrides
 from realikea.rewards import variant_name
-from realikea.training import fidelity_grid
+from realikea.runs.records import mode_overrides
 from realikea.training.metrics import join_launches
 
 
-def _planned(seeds=(0, 1), paper=False, **axes):
+@pytest.fixture(scope="module")
+def fidelity_grid(load_script):
+    return load_script("experiments/fidelity_ablation/grid_runs.py")
+
+
+def _planned(fidelity_grid, seeds=(0, 1), paper=False, **axes):
     return fidelity_grid.planned(**{**fidelity_grid.AXES, **axes}, seeds=seeds, paper=paper)
 
 
-def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_test_parts():
+def test_the_experiment_trains_in_the_kitchen_on_train_parts_and_evaluates_on_test_parts(
+    fidelity_grid,
+):
     cfg = load_config(["+experiment=fidelity_grid", "asset=knob"])
     assert cfg.scene.name == "kitchen" and cfg.asset.split == "train"
     assert cfg.asset.kind == "drawer" and cfg.env.num_envs == 64
@@ -64,22 +70,24 @@ def test_a_bad_end_of_training_evaluation_is_refused_before_training(tmp_path):
     assert not list(tmp_path.glob("model_*.pt"))
 
 
-def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused():
-    runs = _planned()
+def test_runs_go_seed_by_seed_and_bad_axis_values_are_refused(fidelity_grid):
+    runs = _planned(fidelity_grid)
     assert len(runs) == 2 * 3 * 3 * 2
     assert {r.seed for r in runs[:18]} == {0} and runs[0].name == "coacd_high_two_point_s0"
-    paper = _planned(paper=True)[0]
+    paper = _planned(fidelity_grid, paper=True)[0]
     assert paper.name == "paper_coacd_high_two_point_s0" and paper.iterations == 1500
     assert "dr.switch_iteration=900" in paper.overrides
     with pytest.raises(RealIkeaError, match="unknown categories bogus"):
-        _planned(categories=["bogus"])
+        _planned(fidelity_grid, categories=["bogus"])
     with pytest.raises(RealIkeaError, match="seeds"):
-        _planned(seeds=[-1])
+        _planned(fidelity_grid, seeds=[-1])
 
 
-def test_a_stopped_run_continues_from_its_last_checkpoint_and_finishes_with_eval_json(tmp_path):
+def test_a_stopped_run_continues_from_its_last_checkpoint_and_finishes_with_eval_json(
+    tmp_path, fidelity_grid
+):
     queue = fidelity_grid.grid_queue(tmp_path / "work", tmp_path / "kept")
-    run = _planned(seeds=[0])[0]
+    run = _planned(fidelity_grid, seeds=[0])[0]
     assert not any(a.startswith("train.resume=") for a in queue.command(run))
     run_dir = tmp_path / "work" / run.name
     run_dir.mkdir(parents=True)
@@ -95,19 +103,19 @@ def test_a_stopped_run_continues_from_its_last_checkpoint_and_finishes_with_eval
     assert queue.state(run) == "finished"
 
 
-def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs():
+def test_seed_0_of_the_papers_schedule_keeps_the_checkpoints_the_sweep_needs(fidelity_grid):
     found = [(it, Path(f"model_{it}.pt")) for it in (0, 50, 100, 150, 200, 1499)]
-    paper = _planned(seeds=[0, 1], paper=True)
+    paper = _planned(fidelity_grid, seeds=[0, 1], paper=True)
     swept = [r.seed == 0 and (r.category, r.resistance) == ("two_point", "high") for r in paper]
     assert [r.swept for r in paper] == swept and paper[0].swept and sum(swept) == 2  # a source
     kept = [p.name for p in fidelity_grid.kept_checkpoints(paper[0], found)]
     assert kept == ["model_0.pt", "model_100.pt", "model_200.pt", "model_1499.pt"]
     assert fidelity_grid.kept_checkpoints(paper[-1], found) == [Path("model_1499.pt")]  # seed 1
-    grid_run = _planned(seeds=[0])[0]
+    grid_run = _planned(fidelity_grid, seeds=[0])[0]
     assert not grid_run.swept and fidelity_grid.kept_checkpoints(grid_run, found) == [found[-1][1]]
 
 
-def test_a_kept_runs_eval_commands_name_the_checkpoint_git_holds():
+def test_a_kept_runs_eval_commands_name_the_checkpoint_git_holds(fidelity_grid):
     trained = fidelity_grid.WORK / "hull_high_knob_s0" / "model_899.pt"
     command = f"realikea eval policy=checkpoint policy.path={trained} resistance=high episodes=50"
     report = {"checkpoint": "model_899.pt", "modes": {"high": {"command": command}}}

@@ -1,6 +1,6 @@
 """Run the fidelity grid (realikea/conf/experiment/fidelity_grid.yaml) two runs at a time and
-keep each finished run in experiments/fidelity_ablation/results/grid/NAME/ (realikea/training/
-fidelity_grid.py says what a run keeps; realikea/training/queue.py how runs resume).
+keep each finished run in experiments/fidelity_ablation/results/grid/NAME/ (grid_runs.py says
+what a run keeps; realikea/training/queue.py how runs resume).
 
     python experiments/fidelity_ablation/grid.py                     # every run not yet kept
     python experiments/fidelity_ablation/grid.py --seeds 0 --categories two_point --dry-run
@@ -12,8 +12,9 @@ from __future__ import annotations
 import argparse
 import sys
 
+from grid_runs import AXES, grid_queue, planned
+
 from realikea.errors import RealIkeaError
-from realikea.training.fidelity_grid import AXES, grid_queue, planned
 
 
 def main() -> int:

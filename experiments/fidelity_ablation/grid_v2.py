@@ -12,7 +12,7 @@ agent, scene, sim, gripper, contact and pose ranges there, and refuses to overwr
 run composes it as a config group from this folder's results/ (`hydra.searchpath`,
 `+grid_v2=recipe`), so later changes to the defaults do not change the grid's runs. Runs train in
 outputs/grid_v2/NAME, resume from their last checkpoint, and are kept in results/grid_v2/NAME
-(realikea/training/fidelity_grid.py). The recipe is merged over the defaults, so a key a later
+(grid_runs.py). The recipe is merged over the defaults, so a key a later
 default adds to a pinned group would reach the grid's runs: tests/test_grid_v2.py then fails.
 Such a key must mean the old behaviour when absent, and the runs delete it (`~agent.new_key` in
 `grid_v2_run`'s overrides).
@@ -26,11 +26,11 @@ import argparse
 import itertools
 import sys
 
+from grid_runs import GridRun, grid_queue
 from omegaconf import OmegaConf
 
 from realikea.config import load_config
 from realikea.files import WORKSPACE
-from realikea.training.fidelity_grid import GridRun, grid_queue
 
 RESULTS = WORKSPACE / "experiments/fidelity_ablation/results"
 KEPT = RESULTS / "grid_v2"

@@ -27,8 +27,8 @@ from grid_v2 import KEPT, RECIPE_OVERRIDES
 
 from realikea.errors import RealIkeaError
 from realikea.eval.runs import rerun
-from realikea.reports.fidelity_ablation.runs import find_runs
 from realikea.reports.phase_map import evaluate_phase_map, map_policy
+from realikea.runs.records import find_runs
 
 OWN = "hull"  # the runs whose own geometry is not the protocol's
 OWN_FILE = f"eval_{OWN}.json"

@@ -33,8 +33,8 @@ from grid_v2_eval import OWN, OWN_FILE, PHASE_FRICTION, PHASE_RESULTS, kept_reco
 from grid_v2_frames import frame_lines
 
 from realikea.files import atomic_write_text
-from realikea.reports.fidelity_ablation.runs import iterations_to_success
 from realikea.reports.phase_map import read_cells
+from realikea.runs.curves import iterations_to_success
 from realikea.sim.resistance import MODES
 
 LEARNED = 0.5  # a full 20-iteration window of training success at or above it

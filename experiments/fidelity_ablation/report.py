@@ -29,7 +29,7 @@ from fidelity_report.videos import record_videos
 
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
-from realikea.reports.fidelity_ablation.runs import find_runs
+from realikea.runs.records import find_runs
 
 DEFAULT_OUT = "experiments/fidelity_ablation/results"  # the committed report
 

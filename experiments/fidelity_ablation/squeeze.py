@@ -28,7 +28,7 @@ from realikea.eval.table import cell_row
 from realikea.files import atomic_write_text, shown_path
 from realikea.markdown import table
 from realikea.policies.full_squeeze import FullSqueeze
-from realikea.reports.fidelity_ablation.runs import mode_overrides
+from realikea.runs.records import mode_overrides
 
 
 def squeeze_table(rows: dict[str, dict]) -> list[str]:

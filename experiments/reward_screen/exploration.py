@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 
 from realikea.files import WORKSPACE
-from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
+from realikea.runs.curves import SUCCESS_WINDOW, trailing_mean
 from realikea.training.metrics import read_metrics
 
 FOLDERS = [WORKSPACE / "experiments/reward_screen/results" / name for name in ("runs", "stopped")]

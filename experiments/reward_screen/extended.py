@@ -11,11 +11,7 @@ from __future__ import annotations
 import argparse
 
 from realikea.files import WORKSPACE
-from realikea.reports.fidelity_ablation.runs import (
-    SUCCESS_WINDOW,
-    iterations_to_success,
-    trailing_mean,
-)
+from realikea.runs.curves import SUCCESS_WINDOW, iterations_to_success, trailing_mean
 from realikea.training.metrics import read_metrics
 
 EXTENDED = WORKSPACE / "experiments/reward_screen/results/extended"

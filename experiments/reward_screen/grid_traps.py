@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from realikea.files import WORKSPACE
-from realikea.reports.fidelity_ablation.runs import iterations_to_success
+from realikea.runs.curves import iterations_to_success
 from realikea.training.metrics import read_metrics
 
 LAST = (880, 899)  # the iterations read for where a run ended

@@ -27,11 +27,7 @@ import numpy as np  # noqa: E402
 
 from realikea.files import WORKSPACE, atomic_write_text  # noqa: E402
 from realikea.markdown import table  # noqa: E402
-from realikea.reports.fidelity_ablation.runs import (  # noqa: E402
-    SUCCESS_WINDOW,
-    iterations_to_success,
-    trailing_mean,
-)
+from realikea.runs.curves import SUCCESS_WINDOW, iterations_to_success, trailing_mean  # noqa: E402
 from realikea.training.metrics import read_metrics  # noqa: E402
 
 NAME = re.compile(r"(?P<recipe>.+)_(?P<collision>coacd|hull)_(?P<cell>.+)_s(?P<seed>\d+)$")

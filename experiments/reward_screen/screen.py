@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from realikea.files import WORKSPACE
-from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
+from realikea.runs.curves import SUCCESS_WINDOW, trailing_mean
 from realikea.sources import SOURCES
 from realikea.training.metrics import read_metrics
 from realikea.training.queue import QueuedRun, RunQueue, keep_run

@@ -1,1 +1,2 @@
-"""Committed training runs as records: what each kept checkpoint is, what made it, who cites it."""
+"""Training runs on disk: finished runs' records and training curves, and the committed
+checkpoints (what each is, what made it, who cites it)."""

@@ -8,8 +8,8 @@ import numpy as np
 
 from realikea.eval.stats import count, seed_interval, wilson
 from realikea.eval.table import CONTACT_STATS
-from realikea.reports.fidelity_ablation.runs import schedule
 from realikea.reports.multiplicity import Difference
+from realikea.runs.records import schedule
 from realikea.sim.resistance import MODES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.outcome import OUTCOMES

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from realikea.eval.stats import count, diff_interval, significant, wilson
 from realikea.markdown import table
-from realikea.reports.fidelity_ablation.runs import read_eval
+from realikea.runs.records import read_eval
 
 
 def _rate(k: int, n: int) -> str:

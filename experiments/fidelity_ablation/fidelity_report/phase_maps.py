@@ -6,9 +6,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from realikea.errors import RealIkeaError
-from realikea.reports.fidelity_ablation.runs import command_overrides
 from realikea.reports.multiplicity import holm_lines
 from realikea.reports.phase_map import difference_grid_lines, differences, read_cells
+from realikea.runs.records import command_overrides
 
 from .tables import relative
 

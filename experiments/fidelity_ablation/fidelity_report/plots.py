@@ -7,7 +7,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from realikea.reports.fidelity_ablation.runs import SUCCESS_WINDOW, trailing_mean
+from realikea.runs.curves import SUCCESS_WINDOW, trailing_mean
 from realikea.tasks.outcome import OUTCOMES
 
 from .cells import STRATEGY_LABELS

@@ -8,8 +8,8 @@ from pathlib import Path
 
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
-from realikea.reports.fidelity_ablation.runs import find_runs, unfinished_runs
 from realikea.reports.multiplicity import holm_lines
+from realikea.runs.records import find_runs, unfinished_runs
 from realikea.sim.resistance import MODES
 from realikea.sources import SOURCES
 

@@ -8,12 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from realikea.markdown import table
-from realikea.reports.fidelity_ablation.runs import (
-    PLATEAU_WINDOW,
-    iterations_to_success,
-    last_windows,
-    train_seconds,
-)
+from realikea.runs.curves import PLATEAU_WINDOW, iterations_to_success, last_windows
+from realikea.runs.records import train_seconds
 from realikea.sim.resistance import MODES
 from realikea.tasks.failure_modes import FAILURE_MODES
 from realikea.tasks.outcome import OUTCOMES

@@ -7,7 +7,7 @@ from pathlib import Path
 from realikea.eval.protocol import outcome_table
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.video import record_draw
-from realikea.reports.fidelity_ablation.runs import command_overrides
+from realikea.runs.records import command_overrides
 
 from .tables import relative
 

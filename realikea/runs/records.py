@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
 from omegaconf import OmegaConf
 
 from realikea.errors import RealIkeaError
@@ -13,10 +12,6 @@ from realikea.eval.sweep import checkpoint_iteration
 from realikea.tasks.randomization import two_phase_switch
 from realikea.training.metrics import read_metrics
 
-SUCCESS_WINDOW = 20  # iterations averaged for "training success reached 50 %" and the curves
-# iterations per window of the plateau check (training success over the last window against
-# the one before): a grid run should train until its success has plateaued
-PLATEAU_WINDOW = 100
 EVAL_COMMAND = "realikea eval"  # how eval.json and cells.jsonl store an evaluation's command
 
 
@@ -82,8 +77,8 @@ def schedule(run: dict) -> str:
 
 
 def _launch_seconds(run_dir: Path) -> list[float]:
-    """Wall seconds of every launch of a run (experiments/fidelity_ablation/grid.py's
-    wall.json: training, resumes and evaluation), empty for runs made without it."""
+    """Wall seconds of every launch of a run (the run queue's wall.json: training, resumes
+    and evaluation), empty for runs made without it."""
     path = Path(run_dir) / "wall.json"
     return json.loads(path.read_text())["launches_seconds"] if path.is_file() else []
 
@@ -95,52 +90,6 @@ def train_seconds(run: dict) -> float | None:
         return float(seconds)
     parts = [run["metrics"].get(f"Perf/{k}_time", ([], []))[1] for k in ("collection", "learning")]
     return float(sum(map(sum, parts))) if any(parts) else None
-
-
-def iterations_to_success(
-    run: dict, level: float = 0.5, window: int = SUCCESS_WINDOW
-) -> int | None:
-    """The first iteration from which the training success, averaged over the next `window`
-    iterations, reaches `level` (None if it never does). A window counts only when it is full,
-    ending at or before the run's last iteration: the mean of a run's last few iterations, a
-    window cut off by the end of training, never counts as learned."""
-    its, values = (np.asarray(x) for x in run["metrics"].get("/episode/success", ([], [])))
-    for start in np.unique(its):
-        if start + window - 1 > its.max():  # the window runs past the last iteration
-            break
-        chosen = (its >= start) & (its < start + window)
-        if values[chosen].mean() >= level:
-            return int(start)
-    return None
-
-
-def last_windows(
-    run: dict, tag: str, window: int = PLATEAU_WINDOW
-) -> tuple[float | None, float | None]:
-    """The mean of a training metric over the last `window` iterations and its change from the
-    `window` before them (None where a window has no iteration): a plateau changes little."""
-    its, values = (np.asarray(x) for x in run["metrics"].get(tag, ([], [])))
-    if its.size == 0:
-        return None, None
-    end = its.max() + 1
-    last = values[its >= end - window]
-    before = values[(its >= end - 2 * window) & (its < end - window)]
-    mean = float(last.mean())
-    return mean, (mean - float(before.mean())) if before.size else None
-
-
-def trailing_mean(its, values, window: int) -> tuple[np.ndarray, np.ndarray]:
-    """The mean of `values` over each `window` consecutive iterations, at the window's last
-    iteration (nothing before a full window)."""
-    its, values = np.asarray(its), np.asarray(values, float)
-    if len(values) < window:
-        return its[:0], values[:0]
-    order = np.argsort(its, kind="stable")
-    its, values = its[order], values[order]
-    # summed, then divided: a window of exactly half successes averages 0.5, as in
-    # iterations_to_success, not a rounding error below it
-    means = np.convolve(values, np.ones(window), mode="valid") / window
-    return its[window - 1 :], means
 
 
 def command_overrides(command: str) -> list[str]:

@@ -1,1 +1,0 @@
-"""Finished training runs on disk: their config, evaluation, training metrics and wall time."""
