@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from grid_v2 import CATEGORIES, COLLISIONS, RESISTANCES
+from grid_v2_eval import VIDEO_EPISODES
 
 LABELS = ("hook", "lever", "pinch")  # the labels the registered comparisons count
 PER_LABEL = 3
@@ -74,7 +75,8 @@ def frame_lines(runs: list[dict]) -> list[str]:
     lines = [
         "## Frames",
         "",
-        "Four frames of the first recorded episode (of 8, under the run's training resistance, "
+        f"Four frames of the first recorded episode (of {VIDEO_EPISODES}, under the run's "
+        "training resistance, "
         "`grid_v2_eval.py`) that succeeded with the label, the scene above a close-up of the "
         "handle; chosen by the rule in `grid_v2_frames.py`, not by eye.",
         "",
