@@ -204,6 +204,23 @@ def test_parking_stops_each_run_at_its_next_checkpoint_and_launches_no_other(
     assert f"stopped long at iteration {stopped_at}" in capsys.readouterr().out
 
 
+def test_a_driver_of_several_stages_launches_no_later_stage_once_parked(tmp_path, monkeypatch):
+    """A driver serving stages one run_all at a time (the generalist screen) stops at the park
+    request and launches none of its later stages, though each begins after the request."""
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.1)
+    monkeypatch.setattr(RunQueue, "command", _training)
+    first, second = QueuedRun("first", (), 300), QueuedRun("second", (), 300)
+    driver = threading.Thread(target=lambda: [q.run_all([run], 1) for run in (first, second)])
+    driver.start()
+    _when(lambda: q.drivers() and q.last_checkpoint(first) == 0)
+    assert q.serve([first, second], 1, park=True) == 0
+    driver.join()
+    assert 0 < q.last_checkpoint(first) < 299 and not (tmp_path / "work" / "second.log").exists()
+    assert sorted(p.name for p in q.parked.iterdir()) == ["first"]
+
+
 def test_parking_stops_a_run_whose_driver_died_and_times_its_launch(tmp_path, monkeypatch):
     """No live driver: the parking process stops the run at its next checkpoint itself and
     replaces the dead driver's last record of the launch with the launch's whole time."""

@@ -15,7 +15,8 @@ and kept with its last checkpoint. WORK is gone with the machine: `park` copies 
 run's resumable state to a folder git holds, and a later launch of it starts from there.
 
 At a session's end `serve(park=True)` stops the runs at their next checkpoints and parks them: it
-asks the live drivers (WORK/drivers/PID) through WORK/PARK, and each stops launching, interrupts
+asks the live drivers (WORK/drivers/PID) through WORK/PARK, and each stops launching (in its
+later run_all calls too: a driver of several stages runs no later stage), interrupts
 every run once it has written a checkpoint after the request (a run past its last checkpoint
 finishes and is kept), records the launch's wall time and exits; a run training with no live
 driver is stopped the same way by the parking process itself, its launch timed from its pid file.
@@ -31,7 +32,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from realikea.eval.sweep import checkpoints
@@ -66,6 +67,10 @@ class RunQueue:
     kept: Callable[[QueuedRun], bool]
     stop_early: Callable[[QueuedRun], bool] = lambda run: False
     parked: Path | None = None  # where `park` leaves stopped runs for a later machine (in git)
+    # as a driver: when its first run_all began, and whether it has seen a park request since
+    # (a driver serving several stages, one run_all each, launches nothing after a park)
+    _driving_since: float | None = field(default=None, init=False, repr=False)
+    _park_seen: bool = field(default=False, init=False, repr=False)
 
     def command(self, run: QueuedRun) -> list[str]:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
@@ -245,24 +250,29 @@ class RunQueue:
         me = self.work / DRIVERS / str(os.getpid())
         me.parent.mkdir(parents=True, exist_ok=True)
         me.touch()
+        if self._driving_since is None:
+            self._driving_since = time.time()
         try:
-            return self._drive(runs, jobs, started=time.time())
+            return self._drive(runs, jobs)
         finally:
             me.unlink(missing_ok=True)
 
-    def _parking(self, started: float) -> bool:
-        """Whether a park request was made since this driver started."""
+    def _parking(self) -> bool:
+        """Whether a park request was made since this driver's first run_all (an older one is
+        left over from a parking process that died)."""
         request = self.work / PARK_REQUEST
-        return request.is_file() and request.stat().st_mtime >= started
+        if request.is_file() and request.stat().st_mtime >= self._driving_since:
+            self._park_seen = True
+        return self._park_seen
 
-    def _drive(self, runs: list[QueuedRun], jobs: int, started: float) -> int:
+    def _drive(self, runs: list[QueuedRun], jobs: int) -> int:
         queue = [r for r in runs if not self.kept(r)]
         print(f"{len(runs) - len(queue)} of {len(runs)} runs already kept; {len(queue)} to go")
         active: dict[QueuedRun, tuple[subprocess.Popen, float, list[float]]] = {}
         stop_after: dict[QueuedRun, int] | None = None  # parking: last checkpoints at the request
         failed = 0
         while active or (queue and stop_after is None):
-            if stop_after is None and self._parking(started):
+            if stop_after is None and self._parking():
                 stop_after = {run: self.last_checkpoint(run) for run in active}
                 print("parking: each run stops at its next checkpoint", flush=True)
             while queue and len(active) < jobs and stop_after is None:
