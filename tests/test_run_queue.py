@@ -221,6 +221,35 @@ def test_a_driver_of_several_stages_launches_no_later_stage_once_parked(tmp_path
     assert sorted(p.name for p in q.parked.iterdir()) == ["first"]
 
 
+def test_a_park_waits_for_a_driver_between_its_stages_and_no_later_stage_launches(
+    tmp_path, monkeypatch
+):
+    """A driver holding `driving()` around its stages is a live driver between them (while it
+    evaluates a kept run): a park made then waits for it, and its next stage launches nothing."""
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.1)
+    monkeypatch.setattr(RunQueue, "command", _training)
+    evaluated, later = threading.Event(), QueuedRun("later", (), 300)
+
+    def drive() -> None:
+        with q.driving():
+            evaluated.wait(30)  # an evaluation between two stages
+            q.run_all([later], 1)
+
+    driver = threading.Thread(target=drive)
+    driver.start()
+    _when(lambda: q.drivers())
+    parking = threading.Thread(target=lambda: q.serve([later], 1, park=True))
+    parking.start()
+    _when(lambda: (tmp_path / "work" / queue.PARK_REQUEST).is_file())
+    assert parking.is_alive()  # it waits for the driver's block
+    evaluated.set()
+    driver.join()
+    parking.join()
+    assert not (tmp_path / "work" / "later.log").exists() and q.drivers() == []
+
+
 def test_parking_stops_a_run_whose_driver_died_and_times_its_launch(tmp_path, monkeypatch):
     """No live driver: the parking process stops the run at its next checkpoint itself and
     replaces the dead driver's last record of the launch with the launch's whole time."""

@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from contextlib import nullcontext
 from pathlib import Path
 
 from screen_rule import LEARNED, last_window
@@ -184,12 +185,14 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args(argv)
     screen = Screen()
-    for candidate in args.candidates:
-        for seed in args.seeds:
-            if candidate == "distilled":
-                screen.distilled(seed, args.dry_run, args.park)
-            else:
-                screen.stage([single_run(candidate, seed)], args.dry_run, args.park)
+    # a training driver is one across its stages, so a park stops all of them
+    with nullcontext() if args.dry_run or args.park else screen.queue.driving():
+        for candidate in args.candidates:
+            for seed in args.seeds:
+                if candidate == "distilled":
+                    screen.distilled(seed, args.dry_run, args.park)
+                else:
+                    screen.stage([single_run(candidate, seed)], args.dry_run, args.park)
     return 0
 
 

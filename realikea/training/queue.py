@@ -16,7 +16,8 @@ run's resumable state to a folder git holds, and a later launch of it starts fro
 
 At a session's end `serve(park=True)` stops the runs at their next checkpoints and parks them: it
 asks the live drivers (WORK/drivers/PID) through WORK/PARK, and each stops launching (in its
-later run_all calls too: a driver of several stages runs no later stage), interrupts
+later run_all calls too: a driver of several stages runs no later stage, and one holding
+`driving()` around its stages is waited for to the block's end), interrupts
 every run once it has written a checkpoint after the request (a run past its last checkpoint
 finishes and is kept), records the launch's wall time and exits; a run training with no live
 driver is stopped the same way by the parking process itself, its launch timed from its pid file.
@@ -31,7 +32,8 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -67,9 +69,10 @@ class RunQueue:
     kept: Callable[[QueuedRun], bool]
     stop_early: Callable[[QueuedRun], bool] = lambda run: False
     parked: Path | None = None  # where `park` leaves stopped runs for a later machine (in git)
-    # as a driver: when its first run_all began, and whether it has seen a park request since
-    # (a driver serving several stages, one run_all each, launches nothing after a park)
+    # as a driver: when it began driving, how deep in `driving` blocks it is, and whether it
+    # has seen a park request since (then none of its later run_all calls launches a run)
     _driving_since: float | None = field(default=None, init=False, repr=False)
+    _driving_depth: int = field(default=0, init=False, repr=False)
     _park_seen: bool = field(default=False, init=False, repr=False)
 
     def command(self, run: QueuedRun) -> list[str]:
@@ -245,21 +248,32 @@ class RunQueue:
         self._record_wall(run, [*times, seconds])
         print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}", flush=True)
 
-    def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
-        """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
+    @contextmanager
+    def driving(self) -> Iterator[None]:
+        """This process is a live driver of the queue for the block (WORK/drivers/PID): a driver
+        that serves several stages with work between them (an evaluation) holds the block
+        around them all, so a park waits for the whole block and no later stage launches."""
         me = self.work / DRIVERS / str(os.getpid())
         me.parent.mkdir(parents=True, exist_ok=True)
         me.touch()
         if self._driving_since is None:
             self._driving_since = time.time()
+        self._driving_depth += 1
         try:
-            return self._drive(runs, jobs)
+            yield
         finally:
-            me.unlink(missing_ok=True)
+            self._driving_depth -= 1
+            if not self._driving_depth:
+                me.unlink(missing_ok=True)
+
+    def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
+        """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
+        with self.driving():
+            return self._drive(runs, jobs)
 
     def _parking(self) -> bool:
-        """Whether a park request was made since this driver's first run_all (an older one is
-        left over from a parking process that died)."""
+        """Whether a park request was made since this driver began driving (an older one is left
+        over from a parking process that died)."""
         request = self.work / PARK_REQUEST
         if request.is_file() and request.stat().st_mtime >= self._driving_since:
             self._park_seen = True
