@@ -250,6 +250,16 @@ def test_a_park_waits_for_a_driver_between_its_stages_and_no_later_stage_launche
     assert not (tmp_path / "work" / "later.log").exists() and q.drivers() == []
 
 
+def test_a_stage_run_named_pipeline_slash_stage_launches_into_a_new_folder(tmp_path, monkeypatch):
+    """A run named PIPELINE/STAGE (a distilled pipeline's teacher) launches before its
+    pipeline's folder exists: its log and pid files go under it."""
+    q = _queue(tmp_path, [])
+    monkeypatch.setattr(RunQueue, "command", lambda self, run: [sys.executable, "-c", "pass"])
+    proc = q._launch(QueuedRun("distilled_s20/teacher_drawer", (), 400))
+    proc.wait()
+    assert (tmp_path / "work/distilled_s20/teacher_drawer.log").is_file()
+
+
 def test_parking_stops_a_run_whose_driver_died_and_times_its_launch(tmp_path, monkeypatch):
     """No live driver: the parking process stops the run at its next checkpoint itself and
     replaces the dead driver's last record of the launch with the launch's whole time."""

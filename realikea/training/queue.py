@@ -172,7 +172,9 @@ class RunQueue:
             shutil.rmtree(self.work / run.name)  # a launch that died before its first checkpoint
         if state == "parked":
             self._unpark(run)
-        log = (self.work / f"{run.name}.log").open("a")
+        log_path = self.work / f"{run.name}.log"
+        log_path.parent.mkdir(parents=True, exist_ok=True)  # a stage's run: PIPELINE/STAGE
+        log = log_path.open("a")
         command = self.command(run)
         print(f"start {run.name}: {' '.join(command[1:])}", flush=True)
         proc = subprocess.Popen(
