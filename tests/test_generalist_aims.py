@@ -3,6 +3,8 @@ it keeps them and which cells it evaluates each kept run on (no training)."""
 
 from __future__ import annotations
 
+import sys
+
 import pytest
 
 
@@ -25,7 +27,7 @@ def test_each_recipe_trains_its_command_on_its_own_seeds_as_long_as_its_config_s
 
 
 def test_a_kept_run_is_evaluated_on_its_recipes_cells(aims, monkeypatch, tmp_path):
-    monkeypatch.setattr(aims, "RESULTS", tmp_path)
+    monkeypatch.setattr(sys.modules[aims.kept_dir.__module__], "RESULTS", tmp_path)
     (tmp_path / "hull_high/s210").mkdir(parents=True)
     (tmp_path / "hull_high/s210/model_1499.pt").write_bytes(b"")
     monkeypatch.setattr(aims, "WORKSPACE", tmp_path)

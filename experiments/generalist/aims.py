@@ -21,6 +21,9 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from train_gated import RECIPES as GATED_RECIPES
+from train_gated import RESULTS, kept_dir
+
 from realikea.config import load_config
 from realikea.eval.library_grid import evaluate_grid
 from realikea.eval.sweep import checkpoints
@@ -28,11 +31,9 @@ from realikea.files import WORKSPACE
 from realikea.reports.learning_curve import plot_learning_curve
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
-HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "results"
 PARKED = RESULTS / "aims_parked"
 WORK = WORKSPACE / "outputs/generalist_aims"
-RECIPES = {"default": (), "hull_high": ("collision=hull", "resistance=high")}
+RECIPES = {name: tuple(GATED_RECIPES[name]) for name in ("default", "hull_high")}
 SEEDS = {"default": (200, 201, 202), "hull_high": (210, 211, 212)}
 # evaluations of a kept run: results folder suffix -> (resistance modes, extra eval overrides)
 EVALUATIONS = {
@@ -46,11 +47,6 @@ def aim_run(recipe: str, seed: int) -> QueuedRun:
     overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none")
     iterations = int(load_config(overrides).agent.max_iterations)
     return QueuedRun(f"{recipe}_s{seed}", overrides, iterations)
-
-
-def kept_dir(run: QueuedRun) -> Path:
-    recipe, seed = run.name.rsplit("_", 1)
-    return RESULTS / recipe / seed
 
 
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
@@ -73,9 +69,10 @@ def queue() -> RunQueue:
 def evaluate(run: QueuedRun) -> None:
     """Every cell of the run's evaluations not yet in its cells.jsonl files."""
     recipe = run.name.rsplit("_", 1)[0]
-    checkpoint = checkpoints(kept_dir(run))[-1][1]
+    folder = kept_dir(run)
+    checkpoint = checkpoints(folder)[-1][1]
     for suffix, (modes, extra) in EVALUATIONS[recipe].items():
-        cells = kept_dir(run).with_name(kept_dir(run).name + suffix) / "cells.jsonl"
+        cells = folder.with_name(folder.name + suffix) / "cells.jsonl"
         print(f"evaluate {run.name} -> {cells.relative_to(WORKSPACE)}", flush=True)
         evaluate_grid(checkpoint, cells, modes=modes, extra=list(extra))
 
