@@ -1,0 +1,157 @@
+"""The generalist's aims, per seed (registered in README.md, "The aims"): each group's success on
+the held-out parts against its mark, the verdict and the wall time of every kept aim run:
+experiments/generalist/results/aims.md.
+
+    python experiments/generalist/aims_report.py
+
+Reads what `aims.py` kept and evaluated: results/<recipe>/s<seed>/ (cells.jsonl, wall.json,
+learning_curve.png) and, for `hull_high`, results/hull_high/s<seed>_own/cells.jsonl. Point
+estimates are held to the marks (the issue's aims); the Wilson 95 % interval stands beside each.
+A group the registered hull finger-pull door check could not open (`hull_fp_door.py`: below
+HULL_FP_DOOR_MARK on its own hull) is reported but left out of the design card's own-hull aim.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from aims import EVALUATIONS, RESULTS, SEEDS
+from hull_fp_door import KEPT as HULL_FP_DOOR
+from hull_fp_door import RUN as HULL_FP_DOOR_RUN
+
+from realikea.assets.catalog import CATEGORIES
+from realikea.eval.library_grid import KINDS, cell_count, read_cells
+from realikea.eval.stats import wilson
+from realikea.files import atomic_write_text
+from realikea.markdown import table
+
+WALL_HOURS = 2.0  # the time aim: at most 2 h of wall time per generalist
+HULL_FP_DOOR_MARK = 0.3  # the registered check: below this, the group leaves the own-hull aim
+# (recipe, evaluation suffix) -> {mode: mark}: every group's point estimate at or above it
+MARKS = {
+    ("default", ""): {"smooth": 0.8, "high": 0.7},
+    ("hull_high", "_own"): {"high": 0.7},
+    ("hull_high", ""): {},  # reported (the design card's policies on CoACD), no aim
+}
+GROUPS = tuple((kind, category) for kind in KINDS for category in CATEGORIES)
+
+
+def hull_fp_door_opened() -> bool | None:
+    """Whether the registered check opened the hull finger-pull door at the mark (None: not yet)."""
+    cells = read_cells(HULL_FP_DOOR / HULL_FP_DOOR_RUN.name / "cells.jsonl")
+    record = cells.get(("door", "finger_pull", "high"))
+    if record is None:
+        return None
+    k, n = cell_count(record)
+    return k / n >= HULL_FP_DOOR_MARK
+
+
+def excluded(recipe: str, suffix: str, opened: bool | None) -> set[tuple[str, str]]:
+    """The groups left out of this evaluation's aim: the hull finger-pull door from the own-hull
+    aim once the check has failed to open it."""
+    if (recipe, suffix) == ("hull_high", "_own") and opened is False:
+        return {("door", "finger_pull")}
+    return set()
+
+
+def rate(record: dict) -> tuple[float, float, float]:
+    k, n = cell_count(record)
+    return (k / n, *wilson(k, n))
+
+
+def verdict(cells: dict, marks: dict[str, float], skip: set) -> tuple[bool | None, list[str]]:
+    """Whether every counted group meets its mark in every mode (None: cells missing), and the
+    groups below it as 'kind category mode value'."""
+    below, missing = [], False
+    for kind, category in GROUPS:
+        if (kind, category) in skip:
+            continue
+        for mode, mark in marks.items():
+            record = cells.get((kind, category, mode))
+            if record is None:
+                missing = True
+            elif rate(record)[0] < mark:
+                below.append(f"{kind} {category} {mode} {rate(record)[0]:.2f}")
+    return (None if missing else not below), below
+
+
+def wall_hours(folder: Path) -> float | None:
+    wall = folder / "wall.json"
+    if not wall.is_file():
+        return None
+    return sum(json.loads(wall.read_text())["launches_seconds"]) / 3600
+
+
+def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str], dict]:
+    """One seed's table (9 groups x each evaluation's modes) and its verdicts."""
+    run = RESULTS / recipe / f"s{seed}"
+    hours = wall_hours(run)
+    within = None if hours is None else hours <= WALL_HOURS
+    figures: dict = {"wall_hours": hours, "within_time": within}
+    header, columns = ["kind", "category"], []
+    for suffix, (modes, extra) in EVALUATIONS[recipe].items():
+        cells = read_cells(run.with_name(run.name + suffix) / "cells.jsonl")
+        where = "own hull" if "collision=hull" in extra else "CoACD"
+        for mode in modes:
+            header.append(f"{mode}, {where} [95 %]")
+            columns.append((cells, mode, MARKS[(recipe, suffix)].get(mode)))
+        skip = excluded(recipe, suffix, opened)
+        if MARKS[(recipe, suffix)]:
+            met, below = verdict(cells, MARKS[(recipe, suffix)], skip)
+            left_out = sorted(" ".join(group) for group in skip)
+            figures[f"aim{suffix or '_coacd'}"] = {"met": met, "below": below, "excluded": left_out}
+    rows = []
+    for kind, category in GROUPS:
+        row = [kind, category]
+        for cells, mode, mark in columns:
+            record = cells.get((kind, category, mode))
+            if record is None:
+                row.append("–")
+                continue
+            value, lo, hi = rate(record)
+            flag = "" if mark is None or value >= mark else " ✗"
+            row.append(f"{value:.2f} [{lo:.2f}, {hi:.2f}]{flag}")
+        rows.append(row)
+    time = "not kept yet" if hours is None else f"{hours * 60:.1f} min (`wall.json`)"
+    curve = f"{recipe}/s{seed}/learning_curve.png"
+    lines = [f"### `{recipe}` seed {seed}", "", f"Wall time: {time}; [learning curve]({curve})", ""]
+    lines += [*table(header, "l" * len(header), rows), ""]
+    for key, aim in figures.items():
+        if key.startswith("aim"):
+            state = {None: "not all cells evaluated", True: "met", False: "missed"}[aim["met"]]
+            extra = f"; below: {', '.join(aim['below'])}" if aim["below"] else ""
+            extra += f"; left out: {', '.join(aim['excluded'])}" if aim["excluded"] else ""
+            lines.append(f"- aim ({key.removeprefix('aim_')}): {state}{extra}")
+    return [*lines, ""], figures
+
+
+def main(argv: list[str] | None = None) -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
+    opened = hull_fp_door_opened()
+    check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
+    lines = [
+        "# The generalist's aims, per seed",
+        "",
+        "`python experiments/generalist/aims_report.py`: held-out (test) parts, kitchen, 50 "
+        "randomized episodes a cell on draw `env.seed=1000`; success with its Wilson 95 % "
+        "interval, ✗ where the point estimate is below the aim's mark (default: 0.8 in smooth, "
+        f"0.7 in high, CoACD; the design card's command: 0.7 in high on its own hull). Wall "
+        f"time: at most {WALL_HOURS:g} h a run. The hull finger-pull door check "
+        f"(`hull_fp_door.py`, ≥ {HULL_FP_DOOR_MARK} on its own hull): {check}.",
+        "",
+    ]
+    out = {}
+    for recipe, seeds in SEEDS.items():
+        for seed in seeds:
+            section, figures = seed_section(recipe, seed, opened)
+            lines += section
+            out[f"{recipe}/s{seed}"] = figures
+    atomic_write_text(RESULTS / "aims.md", "\n".join(lines))
+    atomic_write_text(RESULTS / "aims.json", json.dumps(out, indent=1) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

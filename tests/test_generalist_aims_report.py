@@ -1,0 +1,71 @@
+"""The aims' report (experiments/generalist/aims_report.py): each seed's groups against the marks,
+the verdicts, wall time, and the hull finger-pull door left out only once its check failed."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from realikea.assets.catalog import CATEGORIES
+from realikea.eval.library_grid import KINDS
+
+
+@pytest.fixture
+def report(load_script, monkeypatch, tmp_path):
+    module = load_script("experiments/generalist/aims_report.py")
+    monkeypatch.setattr(module, "RESULTS", tmp_path)
+    monkeypatch.setattr(module, "HULL_FP_DOOR", tmp_path / "hull_fp_door")
+    return module
+
+
+def write_cells(folder, modes, success=0.9, low=None):
+    """Every group at `success` in each mode, but `low` = (kind, category, mode, value)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    lines = []
+    for kind in KINDS:
+        for category in CATEGORIES:
+            for mode in modes:
+                value = low[3] if low and (kind, category, mode) == low[:3] else success
+                record = {"kind": kind, "category": category, "resistance": mode,
+                          "episodes": 50, "success": value}  # fmt: skip
+                lines.append(json.dumps(record))
+    (folder / "cells.jsonl").write_text("\n".join(lines) + "\n")
+
+
+def test_a_group_below_its_mark_misses_the_aim_and_is_named(report, tmp_path):
+    write_cells(tmp_path / "default/s200", ("smooth", "high"), low=("door", "knob", "high", 0.68))
+    (tmp_path / "default/s200/wall.json").write_text('{"launches_seconds": [3600, 2400]}')
+    write_cells(tmp_path / "default/s201", ("smooth", "high"))
+    report.main([])
+    figures = json.loads((tmp_path / "aims.json").read_text())
+    assert figures["default/s200"]["aim_coacd"] == {
+        "met": False, "below": ["door knob high 0.68"], "excluded": []
+    }  # fmt: skip
+    assert figures["default/s200"]["wall_hours"] == pytest.approx(6000 / 3600)
+    assert figures["default/s200"]["within_time"] is True
+    assert figures["default/s201"]["aim_coacd"]["met"] is True
+    assert figures["default/s202"]["aim_coacd"]["met"] is None  # nothing evaluated yet
+    text = (tmp_path / "aims.md").read_text()
+    assert "0.68 [0.54, 0.79] ✗" in text and "- aim (coacd): missed; below: door knob high" in text
+
+
+def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_fails(
+    report, tmp_path
+):
+    low = ("door", "finger_pull", "high", 0.0)
+    write_cells(tmp_path / "hull_high/s210_own", ("high",), low=low)
+    write_cells(tmp_path / "hull_high/s210", ("high",), low=low)
+    report.main([])
+    own = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]["aim_own"]
+    assert own["met"] is False  # the check has not run: the group counts
+    check = tmp_path / "hull_fp_door" / report.HULL_FP_DOOR_RUN.name
+    write_cells(check, ("high",), success=0.2)
+    report.main([])
+    figures = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]
+    assert figures["aim_own"] == {"met": True, "below": [], "excluded": ["door finger_pull"]}
+    assert "aim_coacd" not in figures  # the design card's policy on CoACD: reported, no aim
+    write_cells(check, ("high",), success=0.3)  # the check opens it: it counts again
+    report.main([])
+    figures = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]
+    assert figures["aim_own"]["met"] is False
