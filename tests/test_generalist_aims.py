@@ -46,3 +46,23 @@ def test_bad_seeds_are_refused_before_any_work(aims, capsys):
     with pytest.raises(SystemExit):
         aims.main(["--seeds", "-1"])
     assert "seeds must be >= 0" in capsys.readouterr().err
+
+
+def test_a_kept_runs_frames_are_recorded_once_every_group_has_some(aims, monkeypatch, tmp_path):
+    monkeypatch.setattr(sys.modules[aims.kept_dir.__module__], "RESULTS", tmp_path)
+    monkeypatch.setattr(aims, "RESULTS", tmp_path)
+    monkeypatch.setattr(aims, "WORKSPACE", tmp_path)
+    calls = []
+    monkeypatch.setattr(aims.subprocess, "run", lambda command, check: calls.append(command))
+    run = aims.QueuedRun("hull_high_s210", (), 1500)
+    frames = tmp_path / "hull_high/s210/frames"
+    frames.mkdir(parents=True)
+    (frames / "door_knob_success_pinch.png").write_bytes(b"")  # one group of nine: a stopped call
+    aims.record_frames(run)
+    assert len(calls) == 1
+    assert calls[0][2:] == ["hull_high/s210", "drawer door flap", "4", "outcome", "collision=hull"]
+    for kind in aims.KINDS:
+        for category in aims.CATEGORIES:
+            (frames / f"{kind}_{category}_fail_none.png").write_bytes(b"")
+    aims.record_frames(run)
+    assert len(calls) == 1

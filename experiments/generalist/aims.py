@@ -12,11 +12,15 @@ Each kept run is evaluated before the next trains (kitchen, test parts, 50 rando
 a cell on draw 1000, `evaluate_grid`): `default` in smooth and high on CoACD
 (results/default/s<seed>/cells.jsonl); `hull_high` in high on its own hull
 (results/hull_high/s<seed>_own/cells.jsonl) and on CoACD (results/hull_high/s<seed>/cells.jsonl).
+Then its frames in high, the first success and the first failure of four episodes per category x
+kind (`frames.sh`, on its own hull for `hull_high`), into results/<recipe>/s<seed>/frames/.
+`python experiments/generalist/aims_report.py` writes the verdicts.
 """
 
 from __future__ import annotations
 
 import argparse
+import subprocess
 import sys
 from contextlib import nullcontext
 from pathlib import Path
@@ -24,8 +28,9 @@ from pathlib import Path
 from train_gated import RECIPES as GATED_RECIPES
 from train_gated import RESULTS, kept_dir
 
+from realikea.assets.catalog import CATEGORIES
 from realikea.config import load_config
-from realikea.eval.library_grid import evaluate_grid
+from realikea.eval.library_grid import KINDS, evaluate_grid
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.reports.learning_curve import plot_learning_curve
@@ -40,6 +45,8 @@ EVALUATIONS = {
     "default": {"": (("smooth", "high"), ())},
     "hull_high": {"_own": (("high",), ("collision=hull",)), "": (("high",), ())},
 }
+FRAMES = {"default": (), "hull_high": ("collision=hull",)}  # overrides of each recipe's frames
+FRAME_EPISODES = 4
 
 
 def aim_run(recipe: str, seed: int) -> QueuedRun:
@@ -77,6 +84,20 @@ def evaluate(run: QueuedRun) -> None:
         evaluate_grid(checkpoint, cells, modes=modes, extra=list(extra))
 
 
+def record_frames(run: QueuedRun) -> None:
+    """The run's frames (`frames.sh`), unless its frames folder holds some of every group."""
+    recipe = run.name.rsplit("_", 1)[0]
+    folder = kept_dir(run)
+    groups = [f"{kind}_{category}_" for kind in KINDS for category in CATEGORIES]
+    if all(any((folder / "frames").glob(f"{group}*.png")) for group in groups):
+        return
+    name = str(folder.relative_to(RESULTS))
+    command = ["bash", str(Path(__file__).with_name("frames.sh")), name, "drawer door flap",
+               str(FRAME_EPISODES), "outcome", *FRAMES[recipe]]  # fmt: skip
+    print(f"frames {run.name} -> {folder.relative_to(WORKSPACE)}/frames", flush=True)
+    subprocess.run(command, check=True)
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--recipes", nargs="+", choices=list(RECIPES), default=list(RECIPES))
@@ -97,6 +118,7 @@ def main(argv: list[str]) -> int:
                 return status
             if training and runs_queue.kept(run):
                 evaluate(run)
+                record_frames(run)
     return 0
 
 
