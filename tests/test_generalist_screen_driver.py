@@ -53,7 +53,8 @@ def test_a_group_its_kinds_teacher_missed_gets_its_own_teacher_on_the_next_seed(
     driver.distilled(20, dry_run=False, park=False)
     student = driver.run.runs[-1]
     assert student.name == "distilled_s20/student"
-    assert f"finger_pull_door: {tmp_path}/kept/{retrain.name}/model_399.pt" in student.overrides[1]
+    teachers = next(o for o in student.overrides if o.startswith("distill.teachers="))
+    assert f"finger_pull_door: {tmp_path}/kept/{retrain.name}/model_399.pt" in teachers
     assert driver.spent("distilled_s20") == 2100.0
 
 

@@ -26,9 +26,21 @@ def test_each_group_gets_mean_zero_and_unit_std():
     assert float(whole[:, :3].std()) < 0.1
 
 
-def test_the_option_selects_group_ppo_and_is_off_by_default():
-    assert runner_config(load_config())["algorithm"]["class_name"] == "PPO"
-    cfg = load_config(["+agent.group_advantages=true"])
+def test_the_library_draw_trains_multi_task_ppo_and_one_category_the_single_task_recipe():
+    """asset=all (python train.py's draw) selects agent=multitask, the generalist screen's
+    adopted group_ppo; one category, or agent=ppo on the command line, keeps ppo.yaml."""
+    library = runner_config(load_config())
+    assert library["algorithm"]["class_name"] == GROUP_PPO
+    assert library["num_steps_per_env"] == 48
+    assert (library["algorithm"]["schedule"], library["algorithm"]["learning_rate"]) == (
+        "fixed",
+        3e-4,
+    )
+    for overrides in (["asset=two_point", "asset.kind=drawer"], ["agent=ppo"]):
+        single = runner_config(load_config(overrides))
+        assert single["algorithm"]["class_name"] == "PPO" and single["num_steps_per_env"] == 24
+        assert single["algorithm"]["schedule"] == "adaptive"
+    cfg = load_config(["agent=ppo", "+agent.group_advantages=true"])  # the option on its own
     assert runner_config(cfg)["algorithm"]["class_name"] == GROUP_PPO
 
 
@@ -36,7 +48,7 @@ def test_group_ppo_normalises_rsl_rls_advantages_per_group_after_a_rollout():
     """GroupPPO built the way rsl-rl's runner builds it, fed a rollout in which the envs of
     group 1 earn 100 times the reward of group 0."""
     torch.manual_seed(0)
-    cfg = runner_config(load_config(["+agent.group_advantages=true", "agent.num_steps_per_env=8"]))
+    cfg = runner_config(load_config(["agent.num_steps_per_env=8"]))  # the library draw: GroupPPO
     cfg["multi_gpu"] = None
     groups = torch.tensor([0, 0, 1, 1])
     env = SimpleNamespace(num_envs=4, num_actions=2, group_index=lambda: groups)

@@ -38,7 +38,10 @@ PARKED = HERE / "results/screen_parked"
 WORK = WORKSPACE / "outputs/generalist_screen"
 SEEDS = (20, 21)
 BUDGET_SECONDS = 2 * 3600
-COMMON = ("logger=none",)  # today's defaults otherwise: python train.py's draw, CoACD, normal
+# python train.py's defaults when the screen was registered: the library's draw, CoACD, normal
+# and the single-task agent (the library draw's default became agent=multitask, the adopted
+# group_ppo, after the screen)
+COMMON = ("logger=none", "agent=ppo")
 SINGLE_RUN = {  # name -> (overrides, iterations)
     "group_ppo": (
         (
