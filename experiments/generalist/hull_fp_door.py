@@ -8,8 +8,9 @@ design card's command: can a hull finger-pull door be opened?").
     python experiments/generalist/hull_fp_door.py --park      # a stopped run's state into git
 
 Trains in outputs/generalist_hull_fp_door/NAME (the run queue: realikea/training/queue.py),
-kept in results/hull_fp_door/NAME, evaluated into results/hull_fp_door/NAME/cells.jsonl (hull,
-high, 50 randomized episodes on draw 1000; `evaluate_grid`).
+kept in results/hull_fp_door/NAME (with its learning curve), evaluated into
+results/hull_fp_door/NAME/cells.jsonl (hull, high, 50 randomized episodes on draw 1000;
+`evaluate_grid`, with the contact statistics of the episodes that pulled).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from pathlib import Path
 from realikea.eval.library_grid import evaluate_grid
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
+from realikea.reports.learning_curve import plot_learning_curve
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 HERE = Path(__file__).resolve().parent
@@ -45,7 +47,9 @@ def main(argv: list[str]) -> int:
     queue = RunQueue(
         WORK,
         lambda run: f"model_{run.iterations - 1}.pt",
-        lambda run, seconds: keep_run(WORK / run.name, KEPT / run.name, seconds),
+        lambda run, seconds: plot_learning_curve(
+            keep_run(WORK / run.name, KEPT / run.name, seconds)
+        ),
         lambda run: (KEPT / run.name / "wall.json").is_file(),
         parked=PARKED,
     )
