@@ -40,24 +40,51 @@ GRIDS = {  # folder -> what was trained
     **{
         f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
         for recipe, what in (
-            ("default", "the default recipe (`python train.py`: CoACD, normal, `gated`)"),
-            ("hull_high", "the design card's `python train.py collision=hull resistance=high`"),
+            (
+                "default",
+                "the superseded default (`python train.py agent=ppo`: CoACD, normal, "
+                "`gated`, the single-task agent)",
+            ),
+            (
+                "hull_high",
+                "the design card's `python train.py collision=hull resistance=high` "
+                "on the superseded single-task agent",
+            ),
             (
                 "default_doors2",
-                "the default recipe with door groups drawn twice as often "
+                "the superseded default with door groups drawn twice as often "
                 "(`asset.group_weights={door:2}`)",
             ),
             (
                 "default_follow",
-                "the default recipe with a draw that follows training success "
+                "the superseded default with a draw that follows training success "
                 "(`asset.follow_success={every:50,below:0.5,weight:3}`)",
             ),
         )  # fmt: skip
         for seed in (0, 1, 2)
         for own in (("", "_own") if recipe == "hull_high" else ("",))
     },
+    **{  # the aims (aims.py): python train.py's defaults since the screen, agent=multitask
+        f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
+        for recipe, what, seeds in (
+            (
+                "default",
+                "the adopted default (`python train.py`: CoACD, normal, `gated`, "
+                "`agent=multitask`)",
+                (200, 201, 202),
+            ),
+            (
+                "hull_high",
+                "the design card's `python train.py collision=hull resistance=high` "
+                "(`agent=multitask`)",
+                (210, 211, 212),
+            ),
+        )
+        for seed in seeds
+        for own in (("", "_own") if recipe == "hull_high" else ("",))
+    },
     **{
-        f"default/s{seed}_2500": f"the default recipe, seed {seed}, continued to 2,500 iterations"
+        f"default/s{seed}_2500": f"the superseded default, seed {seed}, continued to 2,500 iterations"
         for seed in (0, 2)
     },
     **{
