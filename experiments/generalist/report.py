@@ -84,7 +84,8 @@ GRIDS = {  # folder -> what was trained
         for own in (("", "_own") if recipe == "hull_high" else ("",))
     },
     **{
-        f"default/s{seed}_2500": f"the superseded default, seed {seed}, continued to 2,500 iterations"
+        f"default/s{seed}_2500": f"the superseded default, seed {seed}, continued to 2,500 "
+        "iterations"
         for seed in (0, 2)
     },
     **{
