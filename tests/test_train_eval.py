@@ -20,6 +20,7 @@ from realikea.eval.library_grid import cell_overrides, evaluate_grid, pooled, re
 from realikea.eval.protocol import EvalResult
 from realikea.eval.setup import trained_cell
 from realikea.eval.stats import wilson
+from realikea.eval.table import CONTACT_STATS
 from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy, slim_checkpoint
 from realikea.tasks import observations
@@ -299,6 +300,9 @@ def test_the_grid_evaluation_appends_a_cell_and_skips_it_when_run_again(run, tmp
     assert record["episodes"] == 2 and record["scene"] == "kitchen"
     assert record["split"] == "train"  # the pinned part's own split
     assert "asset.split=test" in record["command"] and "env.seed=1000" in record["command"]
+    # the contact statistics of its episodes that pulled (null where none did)
+    assert set(record["contacts"]) == set(CONTACT_STATS) and 0 <= record["pulled_episodes"] <= 2
+    assert all((v is None) == (record["pulled_episodes"] == 0) for v in record["contacts"].values())
     evaluate_grid(run_dir / "model_1.pt", results, 2, 1000, **cell, extra=pin)
     assert len(results.read_text().splitlines()) == 1
     table = load_script("experiments/generalist/cell_tables.py").success_table(read_cells(results))

@@ -1,7 +1,8 @@
 """One checkpoint over the library's grid, kind x category x resistance mode, on the held-out parts.
 
 `evaluate_grid` runs `realikea eval` (its own setup: the checkpoint's run groups, the strategy
-classifier) once per cell and appends the cell's JSON line to a results file as it goes, so an
+classifier) once per cell and appends the cell's JSON line (outcomes, labels, and the contact
+statistics of its episodes that pulled: `contact_record`) to a results file as it goes, so an
 interrupted grid continues where it stopped; `read_cells` reads such a file back, `cell_count`
 and `pooled` count its successes.
 """
@@ -13,7 +14,7 @@ import time
 from pathlib import Path
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, effective_split
-from realikea.eval.runs import run_scene
+from realikea.eval.runs import contact_record, run_scene
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.stats import count
 from realikea.files import shown_path
@@ -71,11 +72,13 @@ def evaluate_grid(
         overrides = cell_overrides(checkpoint, kind, category, mode, episodes, seed, extra or [])
         start = time.perf_counter()
         cfg, policy = eval_setup(overrides)
-        summary = evaluate(cfg, policy, progress=False).summary()
+        result = evaluate(cfg, policy, progress=False)
+        summary = result.summary()
         record = {
             "kind": kind, "category": category, "resistance": mode,
             "collision": str(cfg.collision.source), "scene": str(cfg.scene.name),
             "split": effective_split(cfg.asset), "seed": seed, **summary,
+            **contact_record(result.episodes),
             "seconds": round(time.perf_counter() - start, 1),
             "command": "realikea eval " + " ".join(overrides),
         }  # fmt: skip

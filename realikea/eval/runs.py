@@ -30,7 +30,7 @@ from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import eval_overrides_with_split, eval_setup, evaluate
 from realikea.eval.sweep import checkpoints
-from realikea.eval.table import CONTACT_STATS, cell_row
+from realikea.eval.table import contact_means, pulled
 from realikea.files import CONF_DIR, atomic_write_text, repo_path
 from realikea.provenance import result_versions
 
@@ -97,6 +97,15 @@ def _finite(value: float) -> float | None:
     return None if value is None or math.isnan(value) else float(value)
 
 
+def contact_record(episodes: list[dict]) -> dict:
+    """The contact statistics of an evaluation's JSON: their means over the episodes with a
+    pulling phase (null without one) and how many episodes that is."""
+    return {
+        "contacts": {s: _finite(v) for s, v in contact_means(episodes).items()},
+        "pulled_episodes": len(pulled(episodes)),
+    }
+
+
 def evaluate_run(
     spec: DictConfig,
     run_dir: Path,
@@ -121,11 +130,9 @@ def evaluate_run(
         overrides = eval_overrides(run_overrides, checkpoint, str(mode), spec, default_split)
         cfg, policy = eval_setup(overrides)
         result = evaluate(cfg, policy, progress=False)
-        row = cell_row(cfg, "checkpoint", str(cfg.asset.category), str(mode), result)
         report["modes"][str(mode)] = {
             **result.summary(),
-            "contacts": {s: _finite(row[s]) for s in CONTACT_STATS},
-            "pulled_episodes": sum(1 for e in result.episodes if e.get("pull_seconds", 0) > 0),
+            **contact_record(result.episodes),
             "mean_return": _finite(
                 sum(e.get("episode_return", 0.0) for e in result.episodes) / len(result.episodes)
             ),

@@ -62,10 +62,19 @@ def cell_row(cfg: DictConfig, policy: str, category: str, resistance: str, resul
         **{o: summary[o] for o in OUTCOMES},
         **{f"strategy_{s}": summary.get("strategies", {}).get(s, 0.0) for s in STRATEGIES},
     }  # fmt: skip
-    pulled = [e for e in result.episodes if e.get("pull_seconds", 0) > 0]
-    for stat in CONTACT_STATS:
-        row[stat] = float(np.mean([e[stat] for e in pulled])) if pulled else float("nan")
-    return row
+    return {**row, **contact_means(result.episodes)}
+
+
+def pulled(episodes: list[dict]) -> list[dict]:
+    """The episodes that had a pulling phase (the ones with contact statistics)."""
+    return [e for e in episodes if e.get("pull_seconds", 0) > 0]
+
+
+def contact_means(episodes: list[dict]) -> dict[str, float]:
+    """Each of CONTACT_STATS averaged over the episodes that had a pulling phase (NaN if none)."""
+    chosen = pulled(episodes)
+    nan = float("nan")
+    return {s: float(np.mean([e[s] for e in chosen])) if chosen else nan for s in CONTACT_STATS}
 
 
 def to_csv(rows: list[dict]) -> str:
