@@ -47,6 +47,7 @@ EVALUATIONS = {
 }
 FRAMES = {"default": (), "hull_high": ("collision=hull",)}  # overrides of each recipe's frames
 FRAME_EPISODES = 4
+GROUPS = tuple((kind, category) for kind in KINDS for category in CATEGORIES)  # (kind, category)
 
 
 def aim_run(recipe: str, seed: int) -> QueuedRun:
@@ -88,8 +89,7 @@ def record_frames(run: QueuedRun) -> None:
     """The run's frames (`frames.sh`), unless its frames folder holds some of every group."""
     recipe = run.name.rsplit("_", 1)[0]
     folder = kept_dir(run)
-    groups = [f"{kind}_{category}_" for kind in KINDS for category in CATEGORIES]
-    if all(any((folder / "frames").glob(f"{group}*.png")) for group in groups):
+    if all(any((folder / "frames").glob(f"{kind}_{category}_*.png")) for kind, category in GROUPS):
         return
     name = str(folder.relative_to(RESULTS))
     command = ["bash", str(Path(__file__).with_name("frames.sh")), name, "drawer door flap",

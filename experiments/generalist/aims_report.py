@@ -17,12 +17,11 @@ import argparse
 import json
 from pathlib import Path
 
-from aims import EVALUATIONS, RESULTS, SEEDS
+from aims import EVALUATIONS, GROUPS, RESULTS, SEEDS
 from hull_fp_door import KEPT as HULL_FP_DOOR
 from hull_fp_door import RUN as HULL_FP_DOOR_RUN
 
-from realikea.assets.catalog import CATEGORIES
-from realikea.eval.library_grid import KINDS, cell_count, read_cells
+from realikea.eval.library_grid import cell_count, read_cells
 from realikea.eval.stats import wilson
 from realikea.files import atomic_write_text
 from realikea.markdown import table
@@ -35,17 +34,13 @@ MARKS = {
     ("hull_high", "_own"): {"high": 0.7},
     ("hull_high", ""): {},  # reported (the design card's policies on CoACD), no aim
 }
-GROUPS = tuple((kind, category) for kind in KINDS for category in CATEGORIES)
 
 
 def hull_fp_door_opened() -> bool | None:
     """Whether the registered check opened the hull finger-pull door at the mark (None: not yet)."""
     cells = read_cells(HULL_FP_DOOR / HULL_FP_DOOR_RUN.name / "cells.jsonl")
     record = cells.get(("door", "finger_pull", "high"))
-    if record is None:
-        return None
-    k, n = cell_count(record)
-    return k / n >= HULL_FP_DOOR_MARK
+    return None if record is None else rate(record)[0] >= HULL_FP_DOOR_MARK
 
 
 def excluded(recipe: str, suffix: str, opened: bool | None) -> set[tuple[str, str]]:
@@ -72,8 +67,8 @@ def verdict(cells: dict, marks: dict[str, float], skip: set) -> tuple[bool | Non
             record = cells.get((kind, category, mode))
             if record is None:
                 missing = True
-            elif rate(record)[0] < mark:
-                below.append(f"{kind} {category} {mode} {rate(record)[0]:.2f}")
+            elif (value := rate(record)[0]) < mark:
+                below.append(f"{kind} {category} {mode} {value:.2f}")
     return (None if missing else not below), below
 
 
