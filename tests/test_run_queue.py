@@ -65,6 +65,7 @@ def test_a_finished_run_is_kept_and_a_failed_one_is_not(tmp_path, monkeypatch, c
     script = f"open({str(done)!r}, 'w').close()"
     assert q.run_all([RUN], jobs=1) == 0 and kept == [RUN.name]
     assert len(q.wall_times(RUN)) == 2 and q.state(RUN) == "kept"
+    assert "min in 2 launches" in capsys.readouterr().out  # the whole wall time, not the last
     assert q.run_all([RUN], jobs=1) == 0 and "1 of 1 runs already kept" in capsys.readouterr().out
 
 

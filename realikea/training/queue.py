@@ -326,7 +326,10 @@ class RunQueue:
                 del active[run]
                 if self.finished(run) and (proc.returncode == 0 or stopped):
                     kept = self.keep(run, seconds)
-                    print(f"kept {kept} ({seconds[-1] / 60:.1f} min)", flush=True)
+                    minutes = f"{sum(seconds) / 60:.1f} min in {len(seconds)} launches"
+                    print(
+                        f"kept {kept} ({minutes}, {seconds[-1] / 60:.1f} min the last)", flush=True
+                    )
                 else:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
