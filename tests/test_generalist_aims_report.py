@@ -46,6 +46,9 @@ def test_a_group_below_its_mark_misses_the_aim_and_is_named(report, tmp_path):
     assert figures["default/s200"]["within_time"] is True
     assert figures["default/s201"]["aim_coacd"]["met"] is True
     assert figures["default/s202"]["aim_coacd"]["met"] is None  # nothing evaluated yet
+    rate = figures["default/s200"]["rates"]["coacd"]["knob_door"]["high"]  # for README quotes
+    assert rate == pytest.approx([0.68, 0.5418, 0.7924], abs=1e-4)
+    assert figures["default/s202"]["rates"] == {"coacd": {}}
     text = (tmp_path / "aims.md").read_text()
     assert "0.68 [0.54, 0.79] ✗" in text and "- aim (coacd): missed; below: door knob high" in text
 
@@ -65,6 +68,7 @@ def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_f
     figures = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]
     assert figures["aim_own"] == {"met": True, "below": [], "excluded": ["door finger_pull"]}
     assert "aim_coacd" not in figures  # the design card's policy on CoACD: reported, no aim
+    assert set(figures["rates"]) == {"own", "coacd"}
     write_cells(check, ("high",), success=0.3)  # the check opens it: it counts again
     report.main([])
     figures = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]

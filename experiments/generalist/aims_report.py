@@ -84,14 +84,15 @@ def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str]
     run = RESULTS / recipe / f"s{seed}"
     hours = wall_hours(run)
     within = None if hours is None else hours <= WALL_HOURS
-    figures: dict = {"wall_hours": hours, "within_time": within}
+    figures: dict = {"wall_hours": hours, "within_time": within, "rates": {}}
     header, columns = ["kind", "category"], []
     for suffix, (modes, extra) in EVALUATIONS[recipe].items():
         cells = read_cells(run.with_name(run.name + suffix) / "cells.jsonl")
         where = "own hull" if "collision=hull" in extra else "CoACD"
+        rates = figures["rates"].setdefault("own" if suffix else "coacd", {})
         for mode in modes:
             header.append(f"{mode}, {where} [95 %]")
-            columns.append((cells, mode, MARKS[(recipe, suffix)].get(mode)))
+            columns.append((cells, mode, MARKS[(recipe, suffix)].get(mode), rates))
         skip = excluded(recipe, suffix, opened)
         if MARKS[(recipe, suffix)]:
             met, below = verdict(cells, MARKS[(recipe, suffix)], skip)
@@ -100,12 +101,13 @@ def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str]
     rows = []
     for kind, category in GROUPS:
         row = [kind, category]
-        for cells, mode, mark in columns:
+        for cells, mode, mark, rates in columns:
             record = cells.get((kind, category, mode))
             if record is None:
                 row.append("–")
                 continue
             value, lo, hi = rate(record)
+            rates.setdefault(f"{category}_{kind}", {})[mode] = [value, lo, hi]
             flag = "" if mark is None or value >= mark else " ✗"
             row.append(f"{value:.2f} [{lo:.2f}, {hi:.2f}]{flag}")
         rows.append(row)
