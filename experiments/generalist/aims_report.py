@@ -1,6 +1,7 @@
 """The generalist's aims, per seed (registered in README.md, "The aims"): each group's success on
 the held-out parts against its mark, the verdict and the wall time of every kept aim run:
-experiments/generalist/results/aims.md.
+experiments/generalist/results/aims.md, and aims.json for the docs' quotes (each cell's rate
+and interval under `<recipe>/s<seed>.rates.<coacd|own>.<category>_<kind>.<mode>`).
 
     python experiments/generalist/aims_report.py
 

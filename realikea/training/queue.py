@@ -326,7 +326,8 @@ class RunQueue:
                 del active[run]
                 if self.finished(run) and (proc.returncode == 0 or stopped):
                     kept = self.keep(run, seconds)
-                    minutes = f"{sum(seconds) / 60:.1f} min in {len(seconds)} launches"
+                    launches = f"{len(seconds)} launch{'es' if len(seconds) > 1 else ''}"
+                    minutes = f"{sum(seconds) / 60:.1f} min in {launches}"
                     print(
                         f"kept {kept} ({minutes}, {seconds[-1] / 60:.1f} min the last)", flush=True
                     )
