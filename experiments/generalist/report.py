@@ -7,10 +7,10 @@ Success per kind x category x mode with Wilson 95 % intervals for each grid foun
 kind and over every cell, then the named differences per cell and pooled with Newcombe's
 interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
-latter also on its own hull geometry, hull_high/s<seed>_own/); default_doors2/s<seed>/ and
-default/s<seed>_2500/ against the default per seed on the door kind, default_follow/s<seed>/ on
-all cells pooled (the comparisons named before those runs); the door specialists
-(doors/s<seed>/) on the door cells.
+latter also on its own hull geometry, hull_high/s<seed>_own/; seeds 0-2 superseded, the aims'
+seeds from aims.py); default_doors2/s<seed>/ and default/s<seed>_2500/ against the default per
+seed on the door kind, default_follow/s<seed>/ on all cells pooled (the comparisons named before
+those runs); the door specialists (doors/s<seed>/) on the door cells.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ import argparse
 import json
 from pathlib import Path
 
+from aims import SEEDS as AIM_SEEDS
 from cell_tables import difference_markdown, success_table
 
 from realikea.eval.library_grid import KINDS, pooled, read_cells
@@ -29,7 +30,7 @@ from realikea.sim.resistance import MODES
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
-
+SUPERSEDED_SEEDS = (0, 1, 2)  # the single-task generalists (train_gated.py)
 
 GRIDS = {  # folder -> what was trained
     "coacd": "CoACD, w_open2 = 2, 1,500 iterations",
@@ -37,49 +38,47 @@ GRIDS = {  # folder -> what was trained
     "coacd_2500": "CoACD, w_open2 = 2, continued to 2,500 iterations",
     "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
     "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
-    **{
+    **{  # the superseded single-task generalists (seeds 0-2) and the aims' (aims.py, since the
+        # screen's adoption: python train.py's defaults, agent=multitask)
         f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
-        for recipe, what in (
+        for recipe, what, seeds in (
             (
                 "default",
                 "the superseded default (`python train.py agent=ppo`: CoACD, normal, "
                 "`gated`, the single-task agent)",
+                SUPERSEDED_SEEDS,
             ),
             (
                 "hull_high",
                 "the design card's `python train.py collision=hull resistance=high` "
                 "on the superseded single-task agent",
+                SUPERSEDED_SEEDS,
             ),
             (
                 "default_doors2",
                 "the superseded default with door groups drawn twice as often "
                 "(`asset.group_weights={door:2}`)",
+                SUPERSEDED_SEEDS,
             ),
             (
                 "default_follow",
                 "the superseded default with a draw that follows training success "
                 "(`asset.follow_success={every:50,below:0.5,weight:3}`)",
+                SUPERSEDED_SEEDS,
             ),
-        )  # fmt: skip
-        for seed in (0, 1, 2)
-        for own in (("", "_own") if recipe == "hull_high" else ("",))
-    },
-    **{  # the aims (aims.py): python train.py's defaults since the screen, agent=multitask
-        f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
-        for recipe, what, seeds in (
             (
                 "default",
                 "the adopted default (`python train.py`: CoACD, normal, `gated`, "
                 "`agent=multitask`)",
-                (200, 201, 202),
+                AIM_SEEDS["default"],
             ),
             (
                 "hull_high",
                 "the design card's `python train.py collision=hull resistance=high` "
                 "(`agent=multitask`)",
-                (210, 211, 212),
+                AIM_SEEDS["hull_high"],
             ),
-        )
+        )  # fmt: skip
         for seed in seeds
         for own in (("", "_own") if recipe == "hull_high" else ("",))
     },
