@@ -33,7 +33,17 @@ def test_every_group_over_the_last_25_iterations_decides(rule, tmp_path, capsys)
     assert rule.last_window(lost)[groups[-1]] == pytest.approx(12 / 25)
     assert rule.main([str(good)]) == 0
     assert rule.main([str(good), str(lost)]) == 1
-    assert "adopted: no (1 of 2 runs pass)" in capsys.readouterr().out
+    assert "adopted: no (1 of 2 runs pass at 0.5)" in capsys.readouterr().out
+
+
+def test_round_twos_mark_is_stricter(rule, tmp_path, capsys):
+    groups = rule.GROUPS
+    # every group at 0.76 over the last 25 iterations: learned by round 1's mark, not round 2's
+    run = write_run(tmp_path / "run", groups, 50, lambda g, it: float(it % 25 < 19))
+    assert rule.main([str(run)]) == 0
+    assert rule.main(["--mark", "0.8", str(run)]) == 1
+    assert "adopted: no (0 of 1 runs pass at 0.8)" in capsys.readouterr().out
+    assert rule.main(["--mark", "80", str(run)]) == 2
 
 
 def test_a_missing_group_or_a_run_shorter_than_the_window_fails(rule, tmp_path):

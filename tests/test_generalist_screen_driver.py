@@ -7,6 +7,8 @@ import json
 
 import pytest
 
+from realikea.assets.catalog import GROUPS
+
 
 @pytest.fixture
 def screen(load_script):
@@ -78,3 +80,23 @@ def test_a_pipeline_whose_budget_is_spent_trains_nothing_more(screen, tmp_path, 
     driver.distilled(20, dry_run=False, park=False)
     assert driver.run.runs == []
     assert "distilled_s20: its 2 h are spent" in capsys.readouterr().out
+
+
+def test_a_single_run_candidate_that_misses_its_rounds_mark_stops_at_that_seed(screen, tmp_path):
+    kept = tmp_path / "kept"
+    groups = {g: 0.9 for g in GROUPS} | {"finger_pull_door": 0.7}
+    keep_by_hand(kept, "fp_pregrasp_s20", groups, 6000.0, iterations=1500)
+    driver = screen.Screen(tmp_path / "work", kept, None)
+    driver.run = Recorder()
+    assert driver.single("fp_pregrasp", 20, 0.5, dry_run=False, park=False)
+    assert not driver.single("fp_pregrasp", 20, screen.MARKS[2], dry_run=False, park=False)
+    assert {"+task.pregrasp_groups=[finger_pull_door]", "env.seed=20"} <= set(
+        screen.single_run("fp_pregrasp", 20).overrides
+    )
+    assert "agent=ppo" not in screen.single_run("fp_pregrasp", 20).overrides
+
+
+def test_a_candidate_of_another_round_is_refused(screen, capsys):
+    with pytest.raises(SystemExit):
+        screen.main(["--candidates", "group_ppo", "--dry-run"])
+    assert "group_ppo not in round 2" in capsys.readouterr().err

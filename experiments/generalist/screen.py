@@ -1,8 +1,9 @@
 """The generalist screen's runs (registered in README.md, "One policy on every seed: the
-candidates' screen"): each candidate on seeds 20 and 21, one run at a time, alone on the machine.
+candidates' screen" and its second round): each candidate on seeds 20 and 21, one run at a time,
+alone on the machine.
 
-    python experiments/generalist/screen.py                         # every candidate and seed
-    python experiments/generalist/screen.py --candidates distilled --seeds 20
+    python experiments/generalist/screen.py                         # round 2's candidates
+    python experiments/generalist/screen.py --round 1 --candidates distilled --seeds 20
     python experiments/generalist/screen.py --dry-run               # states and commands
     python experiments/generalist/screen.py --park                  # stopped runs into git
     python experiments/generalist/screen_rule.py RESULTS/group_ppo_s20 RESULTS/group_ppo_s21
@@ -14,7 +15,8 @@ candidate's runs on one seed (its pipeline) share BUDGET_SECONDS of wall time, e
 counted: a run still training when its pipeline's launches reach it is stopped there and kept as
 it is. The distilled candidate trains one teacher per kind, gives a group its teacher missed its
 own teacher on the next seed (once), then distils every group's teacher into one student; the
-candidate is judged on its last run (the student).
+candidate is judged on its last run (the student). A single-run candidate whose kept run misses
+its round's mark (MARKS, the adoption rule's) is not run on the seeds after it.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from screen_rule import LEARNED, last_window
+from screen_rule import LEARNED, last_window, passes
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, group_name
 from realikea.eval.sweep import checkpoints
@@ -38,13 +40,15 @@ PARKED = HERE / "results/screen_parked"
 WORK = WORKSPACE / "outputs/generalist_screen"
 SEEDS = (20, 21)
 BUDGET_SECONDS = 2 * 3600
-# python train.py's defaults when the screen was registered: the library's draw, CoACD, normal
-# and the single-task agent (the library draw's default became agent=multitask, the adopted
-# group_ppo, after the screen)
-COMMON = ("logger=none", "agent=ppo")
+COMMON = ("logger=none",)
+# round 1 ran on python train.py's defaults of its day: the library's draw, CoACD, normal and the
+# single-task agent (the library draw's default became agent=multitask, round 1's adopted
+# group_ppo, after it); round 2 runs on the defaults round 1 left
+ROUND_1 = ("agent=ppo",)
 SINGLE_RUN = {  # name -> (overrides, iterations)
     "group_ppo": (
         (
+            *ROUND_1,
             "+agent.group_advantages=true",
             "agent.algorithm.schedule=fixed",
             "agent.algorithm.learning_rate=3e-4",
@@ -54,16 +58,23 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
     ),
     "pregrasp": (
         (
+            *ROUND_1,
             "+task.pregrasp_share=0.3",
             "+task.pregrasp_groups=[knob_door,two_point_door,finger_pull_door]",
         ),
+        1500,
+    ),
+    "fp_pregrasp": (
+        ("+task.pregrasp_share=0.5", "+task.pregrasp_groups=[finger_pull_door]"),
         1500,
     ),
 }
 # teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
 # student on randomized poses throughout (its teachers have learned them)
 TEACHER_ITERATIONS, TEACHER_SWITCH, STUDENT_ITERATIONS = 400, 200, 200
-CANDIDATES = (*SINGLE_RUN, "distilled")
+ROUNDS = {1: ("group_ppo", "pregrasp", "distilled"), 2: ("fp_pregrasp",)}
+MARKS = {1: LEARNED, 2: 0.8}  # each round's adoption rule: every group's least training success
+CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 
 
 def run_name(candidate: str, seed: int, stage: str = "") -> str:
@@ -86,7 +97,8 @@ def teacher_run(seed: int, kind: str, category: str = "") -> QueuedRun:
     scope = (f"asset={category}",) if category else ()
     return QueuedRun(
         run_name("distilled", seed, stage),
-        (*COMMON, *scope, f"asset.kind={kind}", f"env.seed={seed + 1 if category else seed}",
+        (*COMMON, *ROUND_1, *scope, f"asset.kind={kind}",
+         f"env.seed={seed + 1 if category else seed}",
          f"agent.max_iterations={TEACHER_ITERATIONS}", f"dr.switch_iteration={TEACHER_SWITCH}"),
         TEACHER_ITERATIONS,
     )  # fmt: skip
@@ -96,7 +108,7 @@ def student_run(seed: int, teachers: dict[str, Path]) -> QueuedRun:
     listed = ", ".join(f"{group}: {path}" for group, path in teachers.items())
     return QueuedRun(
         run_name("distilled", seed, "student"),
-        (*COMMON, f"distill.teachers={{{listed}}}", f"env.seed={seed}",
+        (*COMMON, *ROUND_1, f"distill.teachers={{{listed}}}", f"env.seed={seed}",
          f"agent.max_iterations={STUDENT_ITERATIONS}", "dr.switch_iteration=0"),
         STUDENT_ITERATIONS,
     )  # fmt: skip
@@ -156,6 +168,16 @@ class Screen:
     def run(self, runs: list[QueuedRun], dry_run: bool, park: bool) -> int:
         return self.queue.serve(runs, 1, dry_run=dry_run, park=park)
 
+    def single(self, candidate: str, seed: int, mark: float, dry_run: bool, park: bool) -> bool:
+        """Train (or show or park) a single-run candidate on one seed; whether its seeds after
+        this one still run (not once its kept run misses `mark` in some group)."""
+        run = single_run(candidate, seed)
+        self.stage([run], dry_run, park)
+        if self.queue.kept(run) and not passes(last_window(self.kept_dir / run.name), mark):
+            print(f"{run.name} misses {mark:g} in some group: {candidate} stops at this seed")
+            return False
+        return True
+
     def distilled(self, seed: int, dry_run: bool, park: bool) -> None:
         """Teachers per kind, a group's own teacher where its kind's missed it, the student
         (each stage once the one before is kept)."""
@@ -182,20 +204,24 @@ class Screen:
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--candidates", nargs="+", choices=CANDIDATES, default=list(CANDIDATES))
+    parser.add_argument("--round", type=int, choices=list(ROUNDS), default=max(ROUNDS))
+    parser.add_argument("--candidates", nargs="+", choices=CANDIDATES, help="default: the round's")
     parser.add_argument("--seeds", nargs="+", type=int, default=list(SEEDS))
     parser.add_argument("--dry-run", action="store_true", help="print the runs and stop")
     parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args(argv)
+    foreign = sorted(set(args.candidates or ()) - set(ROUNDS[args.round]))
+    if foreign:
+        parser.error(f"{', '.join(foreign)} not in round {args.round}: {ROUNDS[args.round]}")
     screen = Screen()
     # a training driver is one across its stages, so a park stops all of them
     with nullcontext() if args.dry_run or args.park else screen.queue.driving():
-        for candidate in args.candidates:
+        for candidate in args.candidates or ROUNDS[args.round]:
             for seed in args.seeds:
                 if candidate == "distilled":
                     screen.distilled(seed, args.dry_run, args.park)
-                else:
-                    screen.stage([single_run(candidate, seed)], args.dry_run, args.park)
+                elif not screen.single(candidate, seed, MARKS[args.round], args.dry_run, args.park):
+                    break
     return 0
 
 

@@ -1,8 +1,10 @@
 """The generalist screen's adoption rule, applied to a candidate's runs (written before them):
 adopt a candidate only if, on every seed run, every category x kind group's training success over
-the run's last full WINDOW-iteration window is at least LEARNED.
+the run's last full WINDOW-iteration window is at least the round's mark (LEARNED in round 1, 0.8
+in round 2: README.md).
 
-    python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]   # one per seed
+    python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]              # round 1
+    python experiments/generalist/screen_rule.py --mark 0.8 RUN_DIR [RUN_DIR ...]   # round 2
 
 A run's last full window is its last WINDOW iterations (iterations N - WINDOW .. N - 1 of a run
 that logged N); a group's value is the mean of its `/success/<category>_<kind>` entries there (an
@@ -40,14 +42,19 @@ def last_window(run: Path) -> dict[str, float | None]:
     return out
 
 
-def passes(values: dict[str, float | None]) -> bool:
-    return all(v is not None and v >= LEARNED for v in values.values())
+def passes(values: dict[str, float | None], mark: float = LEARNED) -> bool:
+    return all(v is not None and v >= mark for v in values.values())
 
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="+", type=Path, metavar="RUN_DIR", help="one per seed")
-    runs = parser.parse_args(argv).runs
+    parser.add_argument("--mark", type=float, default=LEARNED, help="a group's least success")
+    args = parser.parse_args(argv)
+    runs = args.runs
+    if not 0.0 < args.mark <= 1.0:
+        print(f"screen_rule.py: --mark {args.mark} is not a rate in (0, 1]", file=sys.stderr)
+        return 2
     missing = [r for r in runs if not (r / "metrics.csv").is_file()]
     if missing:
         print(f"screen_rule.py: no metrics.csv in {', '.join(map(str, missing))}", file=sys.stderr)
@@ -57,11 +64,14 @@ def main(argv: list[str]) -> int:
     verdicts = []
     for run in runs:
         values = last_window(run)
-        verdicts.append(passes(values))
+        verdicts.append(passes(values, args.mark))
         shown = ["–" if v is None else f"{v:.2f}" for v in values.values()]
         print(f"| {run} | " + " | ".join(shown) + f" | {'yes' if verdicts[-1] else 'no'} |")
     adopted = all(verdicts)
-    print(f"adopted: {'yes' if adopted else 'no'} ({sum(verdicts)} of {len(runs)} runs pass)")
+    print(
+        f"adopted: {'yes' if adopted else 'no'} "
+        f"({sum(verdicts)} of {len(runs)} runs pass at {args.mark:g})"
+    )
     return 0 if adopted else 1
 
 
