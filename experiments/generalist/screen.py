@@ -16,7 +16,7 @@ counted: a run still training when its pipeline's launches reach it is stopped t
 it is. The distilled candidate trains one teacher per kind, gives a group its teacher missed its
 own teacher on the next seed (once), then distils every group's teacher into one student; the
 candidate is judged on its last run (the student). A single-run candidate whose kept run misses
-its round's mark (MARKS, the adoption rule's) is not run on the seeds after it.
+its round's mark (screen_rule.MARKS) is not run on the seeds after it.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from screen_rule import LEARNED, last_window, passes
+from screen_rule import LEARNED, MARKS, last_window, passes
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, group_name
 from realikea.eval.sweep import checkpoints
@@ -73,7 +73,6 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
 # student on randomized poses throughout (its teachers have learned them)
 TEACHER_ITERATIONS, TEACHER_SWITCH, STUDENT_ITERATIONS = 400, 200, 200
 ROUNDS = {1: ("group_ppo", "pregrasp", "distilled"), 2: ("fp_pregrasp",)}
-MARKS = {1: LEARNED, 2: 0.8}  # each round's adoption rule: every group's least training success
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 
 

@@ -1,7 +1,7 @@
 """The generalist screen's adoption rule, applied to a candidate's runs (written before them):
 adopt a candidate only if, on every seed run, every category x kind group's training success over
-the run's last full WINDOW-iteration window is at least the round's mark (LEARNED in round 1, 0.8
-in round 2: README.md).
+the run's last full WINDOW-iteration window is at least the round's mark (MARKS: LEARNED in round
+1, 0.8 in round 2, README.md).
 
     python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]              # round 1
     python experiments/generalist/screen_rule.py --mark 0.8 RUN_DIR [RUN_DIR ...]   # round 2
@@ -25,6 +25,7 @@ from realikea.assets.catalog import GROUPS
 from realikea.training.metrics import read_metrics
 
 WINDOW, LEARNED = 25, 0.5
+MARKS = {1: LEARNED, 2: 0.8}  # each screen round's mark: every group's least training success
 
 
 def last_window(run: Path) -> dict[str, float | None]:
