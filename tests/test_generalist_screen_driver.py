@@ -98,5 +98,15 @@ def test_a_single_run_candidate_that_misses_its_rounds_mark_stops_at_that_seed(s
 
 def test_a_candidate_of_another_round_is_refused(screen, capsys):
     with pytest.raises(SystemExit):
-        screen.main(["--candidates", "group_ppo", "--dry-run"])
+        screen.main(["--round", "2", "--candidates", "group_ppo", "--dry-run"])
     assert "group_ppo not in round 2" in capsys.readouterr().err
+
+
+def test_round_three_runs_the_default_with_the_opening_paid_past_the_mark(screen, capsys):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("open_margin",)
+    assert screen.MARKS[3] == 0.8
+    overrides = screen.single_run("open_margin", 21).overrides
+    assert {"task.reward.open_target=1.25", "env.seed=21", "agent.max_iterations=1500"} <= set(
+        overrides
+    )
+    assert "agent=ppo" not in overrides

@@ -167,6 +167,27 @@ def test_the_rate_term_pays_the_capped_openings_increase_where_the_opening_is_pa
     assert dict(GATED.weighted_terms(values(stage=4, progress=0.5), P))["rate"] == 0.0  # steady
 
 
+def test_open_target_pays_the_opening_past_the_threshold_up_to_it():
+    """`open_target` (1 in the default recipe) caps the level and its rate: at 1.25 a front held
+    at 1.2 x the threshold pays more than one held just past it, and the bonus is unchanged;
+    a target below the threshold is refused."""
+    margin = GatedParams(open_target=1.25)
+
+    def terms(p: GatedParams, before: float, after: float) -> dict:
+        v = dataclasses.replace(values(stage=4, progress=after), prev_progress=before)
+        return dict(GATED.weighted_terms(v, p))
+
+    assert terms(P, 1.0, 1.2)["open"] == terms(P, 1.0, 1.0)["open"]  # default: no pay past 1
+    assert terms(P, 1.0, 1.2)["rate"] == 0.0
+    past = terms(margin, 1.0, 1.2)
+    assert past["open"] == pytest.approx(margin.scale * margin.w_progress * 1.2)
+    assert past["rate"] == pytest.approx(margin.scale * margin.w_rate * 0.2)
+    assert terms(margin, 1.2, 1.4)["rate"] == pytest.approx(margin.scale * margin.w_rate * 0.05)
+    assert past["success"] == terms(P, 1.0, 1.2)["success"]
+    with pytest.raises(RealIkeaError, match="open_target=0.9"):
+        GatedParams(open_target=0.9)
+
+
 def test_an_episodes_rate_sum_is_the_opening_it_made_while_paid(library):
     """On the task: a pinch that opens the drawer earns, summed over the episode, the capped
     opening made from its grasp on (the level before it, a few mm at most, is not paid)."""

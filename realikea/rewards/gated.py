@@ -38,7 +38,9 @@ The opening:
 Each stage's baseline is the maximum of the ones before it (M1, M2, beta), so reaching a stage
 never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the approach shaping of
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
-threshold on (20 cm or 45 deg): no resting place short of success. Every term is multiplied by
+threshold on (20 cm or 45 deg): no resting place short of success. `open_target` (1 by default)
+caps that level: above 1 it also pays opening past the threshold, so a front opened just past it,
+then nudged back as the hand lets go, is no longer where the reward stops. Every term is multiplied by
 `scale` so a step held at success pays about 2 and value targets stay O(1-200) at gamma = 0.99,
 within reach of rsl-rl's clipping of value updates to +-0.2.
 """
@@ -81,9 +83,16 @@ class GatedParams(StageParams):
     w_push: float = 0.0  # every stage: x -min(force pressing the closed front shut / push_force, 1)
     w_bound: float = 0.0  # every step: x -sum (|a_i| - 1)^2 of the action beyond its clip
     keep_opening: bool = True  # w_progress, w_rate, success_bonus paid in any stage once in stage 4
+    # stage 4: the opening level (opening / success threshold) is paid up to this, at least 1
+    open_target: float = 1.0
     push_force: float = 400.0  # N at the handle
 
     def __post_init__(self):
+        if self.open_target < 1.0:
+            raise RealIkeaError(
+                f"task.reward: open_target={self.open_target} must be >= 1 (a cap below the "
+                "success threshold is a resting place short of success)"
+            )
         if self.beta < self.w_close + self.w_center:
             raise RealIkeaError(
                 f"task.reward: beta={self.beta} must be >= w_close + w_center = "
@@ -156,21 +165,22 @@ def credits_opening(v: StepValues, p: GatedParams) -> bool:
     return v.stage == 4 or (p.keep_opening and v.grasped)
 
 
-def capped(progress: float) -> float:
-    """Opening / success threshold, clipped to [0, 1]."""
-    return min(max(progress, 0.0), 1.0)
+def capped(progress: float, target: float) -> float:
+    """Opening / success threshold, clipped to [0, target]."""
+    return min(max(progress, 0.0), target)
 
 
 def open_term(v: StepValues, p: GatedParams) -> float:
-    """Opening / success threshold, capped at 1: linear, no resting place short of it."""
-    return capped(v.progress) if credits_opening(v, p) else 0.0
+    """Opening / success threshold, capped at `open_target`: linear, no resting place short of
+    success."""
+    return capped(v.progress, p.open_target) if credits_opening(v, p) else 0.0
 
 
 def rate_term(v: StepValues, p: GatedParams) -> float:
     """The capped opening's increase over the step, where the opening is paid."""
     if not credits_opening(v, p):
         return 0.0
-    return capped(v.progress) - capped(v.prev_progress)
+    return capped(v.progress, p.open_target) - capped(v.prev_progress, p.open_target)
 
 
 def success_term(v: StepValues, p: GatedParams) -> float:

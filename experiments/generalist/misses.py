@@ -1,0 +1,166 @@
+"""Where a committed cell's missed episodes go wrong: the cell's evaluation rerun and recorded
+(`realikea eval ... record=`), each episode sorted by whether its front ever reached the success
+mark, how it ended and the base it ran on.
+
+    python experiments/generalist/misses.py RUN --category finger_pull --kind door \
+        --resistance smooth [--validation]
+
+RUN is a kept aim run (results/<recipe>/s<seed>/): the cell's command comes from RUN/cells.jsonl.
+The rerun must give the committed cell's fail / partial / success (the same draw and episodes),
+else nothing is written. `--validation` runs the same command on the validation draw instead
+(the train parts under env.seed=VALIDATION_SEED, as a checkpoint sweep does), for a diagnosis
+that may choose a recipe: the test draw must not. Prints the tables and writes
+RUN/misses/<category>_<kind>_<resistance>[_validation].md.
+An episode graded below success whose front once stood at or past the mark was opened and then
+let fall back: the grade is the opening at the episode's end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import subprocess
+import sys
+import tempfile
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+from realikea.eval.library_grid import read_cells
+from realikea.eval.sweep import VALIDATION_SEED
+from realikea.files import WORKSPACE, atomic_write_text, shown_path
+from realikea.markdown import table
+
+OUTCOMES = ("fail", "partial", "success")
+RESISTANCES = ("smooth", "normal", "high")
+
+
+def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
+    """The kept run's record of one cell (its command and rates)."""
+    cells = read_cells(run / "cells.jsonl")
+    if (kind, category, resistance) not in cells:
+        raise RealIkeaError(
+            f"{shown_path(run / 'cells.jsonl')}: no {category} {kind} cell in {resistance} "
+            f"(it has {sorted(cells) or 'none'})"
+        )
+    return cells[(kind, category, resistance)]
+
+
+def on_validation_draw(command: str) -> str:
+    """A cell's evaluation command on the validation draw: the train parts, VALIDATION_SEED."""
+    drawn = ("asset.split=", "env.seed=")
+    words = [w for w in shlex.split(command) if not w.startswith(drawn)]
+    return shlex.join([*words, "asset.split=train", f"env.seed={VALIDATION_SEED}"])
+
+
+def record(command: str, target: Path) -> None:
+    """Rerun a cell's evaluation with its episodes recorded into `target`."""
+    subprocess.run([*shlex.split(command), f"record={target}"], check=True, cwd=WORKSPACE)
+
+
+def episodes(root: Path) -> list[dict]:
+    """A recorded evaluation's episodes, each with the largest opening it reached."""
+    rows = pq.read_table(root / "meta/episodes/chunk-000/file-000.parquet").to_pylist()
+    frames = pq.read_table(root / "data/chunk-000/file-000.parquet", columns=["next.opening"])
+    opening = np.asarray(frames.column("next.opening").to_pylist(), float).ravel()
+    for row in rows:
+        row["peak_opening"] = float(
+            opening[row["dataset_from_index"] : row["dataset_to_index"]].max()
+        )
+    return rows
+
+
+def check_rates(rows: list[dict], cell: dict) -> None:
+    """The rerun's grades must be the committed cell's."""
+    counts = Counter(r["outcome"] for r in rows)
+    rerun = {o: counts[o] / len(rows) for o in OUTCOMES}
+    if len(rows) != cell["episodes"] or any(abs(rerun[o] - cell[o]) > 1e-9 for o in OUTCOMES):
+        raise RealIkeaError(
+            f"the rerun graded {len(rows)} episodes {rerun}, the committed cell "
+            f"{cell['episodes']} { ({o: cell[o] for o in OUTCOMES}) }: not the same episodes"
+        )
+
+
+def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -> str:
+    """The misses of the episodes `command` ran, by (outcome, reached the mark, termination),
+    then each base's grades."""
+    missed = [r for r in rows if r["outcome"] != "success"]
+    lost = [r for r in missed if r["peak_opening"] >= mark]
+    peaks = [r["peak_opening"] for r in rows if r["outcome"] == "success"]
+    spread = f"median {np.median(peaks):.2f}, least {min(peaks):.2f} {unit}" if peaks else "none"
+    sorted_misses = Counter(
+        (r["outcome"], "yes" if r["peak_opening"] >= mark else "no", r["termination"])
+        for r in missed
+    )
+    by_base = {}
+    for r in rows:
+        by_base.setdefault(r["base"], Counter())[r["outcome"]] += 1
+    lines = [
+        f"# {cell['category']} {cell['kind']}, {cell['resistance']}: where the misses go wrong",
+        "",
+        f"`{command}`, run with `record=` by `python experiments/generalist/misses.py`"
+        + (" (same grades as the committed cell)" if command == cell["command"] else "")
+        + f". Success mark {mark:g} {unit}, graded on the opening at the episode's end.",
+        "",
+        f"{len(missed)} of {len(rows)} episodes missed; **{len(lost)} of them had reached the "
+        "mark and ended below it** (peak openings "
+        + (", ".join(f"{r['peak_opening']:.2f}" for r in lost) or "none")
+        + f" {unit}). The successes' peak openings: {spread}.",
+        "",
+        *table(
+            ("outcome", "reached the mark", "ended by", "episodes"),
+            "lllr",
+            [(*key, str(n)) for key, n in sorted(sorted_misses.items())],
+        ),
+        "",
+        *table(
+            ("base", *OUTCOMES),
+            "lrrr",
+            [(base, *(str(c[o]) for o in OUTCOMES)) for base, c in sorted(by_base.items())],
+        ),
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run", type=Path, help="a kept aim run: results/<recipe>/s<seed>")
+    parser.add_argument("--category", choices=CATEGORIES, required=True)
+    parser.add_argument("--kind", choices=list(BASE_KINDS), required=True)
+    parser.add_argument("--resistance", choices=RESISTANCES, required=True)
+    parser.add_argument("--validation", action="store_true", help="on the validation draw")
+    args = parser.parse_args(argv)
+    try:
+        cell = committed_cell(args.run, args.kind, args.category, args.resistance)
+    except RealIkeaError as err:
+        parser.error(str(err))
+    joint = BASE_KINDS[args.kind]
+    mark = float(load_config().task.outcome.success[joint])
+    command = on_validation_draw(cell["command"]) if args.validation else cell["command"]
+    with tempfile.TemporaryDirectory() as tmp:
+        record(command, Path(tmp) / "episodes")
+        rows = episodes(Path(tmp) / "episodes")
+    if not args.validation:
+        try:
+            check_rates(rows, cell)
+        except RealIkeaError as err:
+            print(f"misses.py: {err}; nothing written", file=sys.stderr)
+            return 1
+    text = report(rows, cell, mark, "m" if joint == "slide" else "rad", command)
+    draw = "_validation" if args.validation else ""
+    out = args.run / "misses" / f"{args.category}_{args.kind}_{args.resistance}{draw}.md"
+    out.parent.mkdir(exist_ok=True)
+    atomic_write_text(out, text)
+    print(text)
+    print(f"written: {shown_path(out)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

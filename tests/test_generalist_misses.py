@@ -1,0 +1,96 @@
+"""Where a cell's misses go wrong (experiments/generalist/misses.py): the sorting by hand, and one
+committed-looking cell rerun and recorded end to end."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from realikea.errors import RealIkeaError
+
+PIN = "asset=two_point asset.part=tp_round_bar_128 asset.base=drawer_w60_h20"
+# two 10 s episodes of the heuristic pull on one configuration: it pinches the bar open
+COMMAND = (
+    f"realikea eval policy=heuristic_pull {PIN} asset.split=train dr=fixed episodes=2 "
+    "env.num_workers=0 task.episode_seconds=10"
+)
+
+
+@pytest.fixture
+def misses(load_script):
+    return load_script("experiments/generalist/misses.py")
+
+
+def episode(outcome: str, peak: float, base: str = "door_left_w40_h80", end: str = "timeout"):
+    return {"outcome": outcome, "peak_opening": peak, "base": base, "termination": end}
+
+
+def cell(command: str = "realikea eval ...", **rates) -> dict:
+    graded = {"fail": 0.0, "partial": 0.0, "success": 0.0} | rates
+    where = {"kind": "door", "category": "finger_pull", "resistance": "smooth", "episodes": 4}
+    return where | graded | {"command": command}
+
+
+def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses):
+    rows = [
+        episode("success", 0.95, end="stagnation"),
+        episode("partial", 0.82),  # opened past 0.785, ended below it
+        episode("partial", 0.60, base="door_right_w60_h80"),  # never reached it
+        episode("fail", 0.0, base="door_right_w60_h80", end="stagnation"),
+    ]
+    graded = cell(partial=0.5, fail=0.25, success=0.25)
+    text = misses.report(rows, graded, 0.785, "rad", graded["command"])
+    assert "3 of 4 episodes missed; **1 of them had reached the mark" in text
+    assert "(peak openings 0.82 rad)" in text
+    assert "median 0.95, least 0.95 rad" in text
+    assert "| partial | yes | timeout | 1 |" in text
+    assert "| partial | no | timeout | 1 |" in text
+    assert "| fail | no | stagnation | 1 |" in text
+    assert "| door_right_w60_h80 | 1 | 1 | 0 |" in text
+    assert "| door_left_w40_h80 | 0 | 1 | 1 |" in text
+
+
+def test_the_validation_draw_replaces_the_cells_parts_and_seed(misses):
+    test_draw = "realikea eval policy.path=a/model_9.pt asset.split=test episodes=50 env.seed=1000"
+    assert misses.on_validation_draw(test_draw) == (
+        "realikea eval policy.path=a/model_9.pt episodes=50 asset.split=train env.seed=2000"
+    )
+
+
+def test_a_rerun_graded_otherwise_than_the_committed_cell_is_refused(misses):
+    rows = [episode("success", 0.9)] * 3 + [episode("partial", 0.5)]
+    misses.check_rates(rows, cell(success=0.75, partial=0.25))
+    with pytest.raises(RealIkeaError, match="not the same episodes"):
+        misses.check_rates(rows, cell(success=1.0))
+
+
+def test_a_cell_the_run_never_evaluated_is_refused_before_any_rerun(
+    misses, tmp_path, monkeypatch, capsys
+):
+    run = tmp_path / "s1"
+    run.mkdir()
+    (run / "cells.jsonl").write_text(json.dumps(cell(success=1.0)) + "\n")
+    monkeypatch.setattr(misses, "record", lambda *a: pytest.fail("a rerun started"))
+    with pytest.raises(SystemExit) as exit_:
+        misses.main([str(run), "--category", "knob", "--kind", "door", "--resistance", "smooth"])
+    assert exit_.value.code == 2
+    assert "no knob door cell in smooth" in capsys.readouterr().err
+    assert not (run / "misses").exists()
+
+
+def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
+    run = tmp_path / "s1"
+    run.mkdir()
+    library = tmp_path / "library"
+    record = cell(f"{COMMAND} paths.library={library}", success=1.0) | {
+        "kind": "drawer", "category": "two_point", "episodes": 2,
+    }  # fmt: skip
+    (run / "cells.jsonl").write_text(json.dumps(record) + "\n")
+    args = [str(run), "--category", "two_point", "--kind", "drawer", "--resistance", "smooth"]
+    assert misses.main(args) == 0
+    text = (run / "misses/two_point_drawer_smooth.md").read_text()
+    assert "Success mark 0.2 m" in text
+    assert "0 of 2 episodes missed; **0 of them had reached the mark" in text
+    assert "| drawer_w60_h20 | 0 | 0 | 2 |" in text
+    assert "(same grades as the committed cell)" in text
