@@ -40,9 +40,9 @@ never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the appro
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
 threshold on (20 cm or 45 deg): no resting place short of success. `open_target` (1 by default)
 caps that level: above 1 it also pays opening past the threshold, so a front opened just past it,
-then nudged back as the hand lets go, is no longer where the reward stops. Every term is multiplied by
-`scale` so a step held at success pays about 2 and value targets stay O(1-200) at gamma = 0.99,
-within reach of rsl-rl's clipping of value updates to +-0.2.
+then nudged back as the hand lets go, is no longer where the reward stops. Every term is
+multiplied by `scale` so a step held at success pays about 2 and value targets stay O(1-200) at
+gamma = 0.99, within reach of rsl-rl's clipping of value updates to +-0.2.
 """
 
 from __future__ import annotations
