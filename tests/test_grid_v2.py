@@ -51,7 +51,7 @@ def test_a_run_trains_on_drawers_of_train_parts_in_the_kitchen_and_is_evaluated_
 def test_every_run_composes_to_the_frozen_recipe(grid_v2):
     if not grid_v2.RECIPE.is_file():
         pytest.skip("the recipe is frozen after the pilot (grid_v2.py --freeze)")
-    frozen = OmegaConf.to_container(OmegaConf.load(grid_v2.RECIPE))
+    frozen = grid_v2.frozen_recipe()
     for run in grid_v2.planned():
         assert grid_v2.recipe_of(load_config(list(run.overrides))) == frozen, run.name
 

@@ -61,6 +61,9 @@ RUN_SETTINGS = {
         },
     },
 }  # fmt: skip
+# task settings added after the freeze, at the values that reproduce what the frozen recipe
+# trained: every run composes them from the defaults, which the recipe file predates
+ADDED_AFTER_FREEZE = {"task": {"reward": {"open_target": 1.0}}}
 
 
 def recipe_of(cfg) -> dict:
@@ -69,6 +72,12 @@ def recipe_of(cfg) -> dict:
     recipe["dr"] = {k: OmegaConf.to_container(cfg.dr[k], resolve=True) for k in PINNED_DR}
     recipe["agent"]["max_iterations"] = ITERATIONS
     return {**recipe, **RUN_SETTINGS}
+
+
+def frozen_recipe() -> dict:
+    """The frozen recipe, with the settings added after it at their reproducing values."""
+    merged = OmegaConf.merge(OmegaConf.load(RECIPE), ADDED_AFTER_FREEZE)
+    return OmegaConf.to_container(merged)
 
 
 def freeze() -> None:
