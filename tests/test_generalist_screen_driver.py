@@ -102,7 +102,7 @@ def test_a_candidate_of_another_round_is_refused(screen, capsys):
     assert "group_ppo not in round 2" in capsys.readouterr().err
 
 
-def test_round_three_runs_the_default_with_the_opening_paid_past_the_mark(screen, capsys):
+def test_round_three_runs_the_default_with_the_opening_paid_past_the_mark(screen):
     assert screen.ROUNDS[max(screen.ROUNDS)] == ("open_margin",)
     assert screen.MARKS[3] == 0.8
     overrides = screen.single_run("open_margin", 21).overrides

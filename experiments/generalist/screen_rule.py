@@ -25,11 +25,8 @@ from realikea.assets.catalog import GROUPS
 from realikea.training.metrics import read_metrics
 
 WINDOW, LEARNED = 25, 0.5
-MARKS = {
-    1: LEARNED,
-    2: 0.8,
-    3: 0.8,
-}  # each screen round's mark: every group's least training success
+# each screen round's mark: every group's least training success
+MARKS = {1: LEARNED, 2: 0.8, 3: 0.8}
 
 
 def last_window(run: Path) -> dict[str, float | None]:
