@@ -35,9 +35,9 @@ from realikea.eval.library_grid import read_cells
 from realikea.eval.sweep import VALIDATION_SEED
 from realikea.files import WORKSPACE, atomic_write_text, shown_path
 from realikea.markdown import table
+from realikea.sim.resistance import MODES
 
 OUTCOMES = ("fail", "partial", "success")
-RESISTANCES = ("smooth", "normal", "high")
 
 
 def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
@@ -133,7 +133,7 @@ def main(argv: list[str]) -> int:
     parser.add_argument("run", type=Path, help="a kept aim run: results/<recipe>/s<seed>")
     parser.add_argument("--category", choices=CATEGORIES, required=True)
     parser.add_argument("--kind", choices=list(BASE_KINDS), required=True)
-    parser.add_argument("--resistance", choices=RESISTANCES, required=True)
+    parser.add_argument("--resistance", choices=list(MODES), required=True)
     parser.add_argument("--validation", action="store_true", help="on the validation draw")
     args = parser.parse_args(argv)
     try:
