@@ -36,8 +36,7 @@ from realikea.eval.sweep import VALIDATION_SEED
 from realikea.files import WORKSPACE, atomic_write_text, shown_path
 from realikea.markdown import table
 from realikea.sim.resistance import MODES
-
-OUTCOMES = ("fail", "partial", "success")
+from realikea.tasks.outcome import OUTCOMES
 
 
 def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
@@ -64,14 +63,15 @@ def record(command: str, target: Path) -> None:
 
 
 def episodes(root: Path) -> list[dict]:
-    """A recorded evaluation's episodes, each with the largest opening it reached."""
-    rows = pq.read_table(root / "meta/episodes/chunk-000/file-000.parquet").to_pylist()
-    frames = pq.read_table(root / "data/chunk-000/file-000.parquet", columns=["next.opening"])
-    opening = np.asarray(frames.column("next.opening").to_pylist(), float).ravel()
+    """A recorded evaluation's episodes (every file of the v3.0 layout), each with the largest
+    opening it reached."""
+    rows = pq.read_table(root / "meta/episodes").to_pylist()
+    frames = pq.read_table(root / "data", columns=["index", "next.opening"])
+    opening = np.empty(frames.num_rows)
+    opening[frames.column("index").to_numpy()] = np.ravel(frames.column("next.opening").to_pylist())
     for row in rows:
-        row["peak_opening"] = float(
-            opening[row["dataset_from_index"] : row["dataset_to_index"]].max()
-        )
+        steps = slice(row["dataset_from_index"], row["dataset_to_index"])
+        row["peak_opening"] = float(opening[steps].max())
     return rows
 
 
