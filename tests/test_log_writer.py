@@ -4,7 +4,9 @@ of the iterations."""
 from __future__ import annotations
 
 import csv
+import struct
 import time
+import zlib
 
 import pytest
 import torch
@@ -99,6 +101,39 @@ def test_wandb_keeps_every_iteration_of_a_run_whose_iterations_take_seconds(tmp_
     assert history["Perf/elapsed_seconds"] == {it: 2.0 * (it + 1) for it in steps}
     assert not [tag for tag in history if tag.startswith("/")]  # rsl-rl's Group/name form
     assert _rows(tmp_path)[0][1] == "/episode/success"  # metrics.csv keeps its names
+
+
+def _history_file(path, steps):
+    """A `.wandb` file of one FULL chunk per history row {"x": step}, as wandb lays it out."""
+    from wandb.proto import wandb_internal_pb2
+
+    data = bytearray(struct.pack("<4sHB", b":W&B", 0xBEE1, 0))
+    for step in steps:
+        record = wandb_internal_pb2.Record()
+        record.history.step.num = step
+        record.history.item.add(key="x", value_json=str(step))
+        body = record.SerializeToString()
+        crc = zlib.crc32(body, zlib.crc32(bytes([1])))
+        data += struct.pack("<IHB", crc, len(body), 1) + body
+    path.write_bytes(bytes(data))
+    return bytes(data)
+
+
+def test_a_file_still_being_written_is_read_up_to_its_last_whole_record(tmp_path):
+    path = tmp_path / "run-x.wandb"
+    data = _history_file(path, range(3))
+    assert wandb_history(path) == {"x": {0: 0, 1: 1, 2: 2}}
+    path.write_bytes(data[:-3])  # the last record's bytes not all flushed yet
+    assert wandb_history(path) == {"x": {0: 0, 1: 1}}
+
+
+def test_a_corrupt_chunk_is_refused_by_its_offset(tmp_path):
+    path = tmp_path / "run-x.wandb"
+    data = bytearray(_history_file(path, range(3)))
+    data[-1] ^= 0xFF
+    path.write_bytes(bytes(data))
+    with pytest.raises(RealIkeaError, match=r"run-x.wandb: the chunk at byte \d+ fails its crc32"):
+        wandb_records(path)
 
 
 def test_a_file_that_is_not_a_wandb_run_is_refused_by_name(tmp_path):

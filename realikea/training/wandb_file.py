@@ -4,12 +4,15 @@ reader), to check what a run sent: `wandb_history(file)` -> {tag: {step: value}}
 The file is a log of 32 KiB blocks after a 7-byte header (":W&B", magic 0xBEE1, version); each
 block holds chunks (crc32, length, type) of protobuf `Record`s, a record longer than a block's
 rest split as FIRST, MIDDLE..., LAST; a block's tail too short for a chunk header is padding.
+A chunk's crc32 runs over its type byte, then its bytes. A file wandb is still writing ends in a
+chunk whose bytes are not all there yet: it is read up to its last whole record.
 """
 
 from __future__ import annotations
 
 import json
 import struct
+import zlib
 from pathlib import Path
 
 from realikea.errors import RealIkeaError
@@ -32,12 +35,14 @@ def wandb_records(path: Path) -> list:
         if BLOCK - pos % BLOCK < CHUNK.size:
             pos += BLOCK - pos % BLOCK
             continue
-        _, length, kind = CHUNK.unpack_from(data, pos)
-        pos += CHUNK.size
-        if kind == 0:  # zeroes: nothing written past here
+        crc, length, kind = CHUNK.unpack_from(data, pos)
+        if kind == 0 or pos + CHUNK.size + length > len(data):  # nothing, or not all, written yet
             break
-        pieces.append(data[pos : pos + length])
-        pos += length
+        chunk = data[pos + CHUNK.size : pos + CHUNK.size + length]
+        if zlib.crc32(chunk, zlib.crc32(bytes([kind]))) != crc:
+            raise RealIkeaError(f"{path}: the chunk at byte {pos} fails its crc32 check")
+        pieces.append(chunk)
+        pos += CHUNK.size + length
         if kind in (FULL, LAST):
             record = wandb_internal_pb2.Record()
             record.ParseFromString(b"".join(pieces))
