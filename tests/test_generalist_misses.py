@@ -22,8 +22,16 @@ def misses(load_script):
     return load_script("experiments/generalist/misses.py")
 
 
-def episode(outcome: str, peak: float, base: str = "door_left_w40_h80", end: str = "timeout"):
-    return {"outcome": outcome, "peak_opening": peak, "base": base, "termination": end}
+def episode(
+    outcome: str,
+    peak: float,
+    base: str = "door_left_w40_h80",
+    end: str = "timeout",
+    part: str = "fp_lip_36",
+    mode: str | None = "other",
+):
+    row = {"outcome": outcome, "peak_opening": peak, "base": base, "termination": end}
+    return row | {"part": part, "failure_mode": None if outcome == "success" else mode}
 
 
 def cell(command: str = "realikea eval ...", **rates) -> dict:
@@ -36,8 +44,8 @@ def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses
     rows = [
         episode("success", 0.95, end="stagnation"),
         episode("partial", 0.82),  # opened past 0.785, ended below it
-        episode("partial", 0.60, base="door_right_w60_h80"),  # never reached it
-        episode("fail", 0.0, base="door_right_w60_h80", end="stagnation"),
+        episode("partial", 0.60, base="door_right_w60_h80", part="fp_cup_96"),  # never reached it
+        episode("fail", 0.0, "door_right_w60_h80", "stagnation", "fp_cup_96", "narrow_clearance"),
     ]
     graded = cell(partial=0.5, fail=0.25, success=0.25)
     text = misses.report(rows, graded, 0.785, "rad", graded["command"])
@@ -49,6 +57,9 @@ def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses
     assert "| fail | no | stagnation | 1 |" in text
     assert "| door_right_w60_h80 | 1 | 1 | 0 |" in text
     assert "| door_left_w40_h80 | 0 | 1 | 1 |" in text
+    assert "| other | 2 |" in text and "| narrow_clearance | 1 |" in text  # the misses' modes
+    assert "| fp_cup_96 | 1 | 1 | 0 |" in text
+    assert "| fp_lip_36 | 0 | 1 | 1 |" in text
 
 
 def test_the_validation_draw_replaces_the_cells_parts_and_seed(misses):
@@ -93,4 +104,5 @@ def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
     assert "Success mark 0.2 m" in text
     assert "0 of 2 episodes missed; **0 of them had reached the mark" in text
     assert "| drawer_w60_h20 | 0 | 0 | 2 |" in text
+    assert "| tp_round_bar_128 | 0 | 0 | 2 |" in text
     assert "(same grades as the committed cell)" in text

@@ -1,6 +1,7 @@
 """Where a committed cell's missed episodes go wrong: the cell's evaluation rerun and recorded
 (`realikea eval ... record=`), each episode sorted by whether its front ever reached the success
-mark, how it ended and the base it ran on.
+mark, how it ended and its failure mode, and every episode's grade by the base and the part it
+ran on.
 
     python experiments/generalist/misses.py RUN --category finger_pull --kind door \
         --resistance smooth [--validation]
@@ -86,9 +87,18 @@ def check_rates(rows: list[dict], cell: dict) -> None:
         )
 
 
+def grades_by(rows: list[dict], key: str) -> list[tuple[str, ...]]:
+    """Table rows: each value of the episodes' `key` (base, part) with its fail / partial /
+    success counts."""
+    counts: dict[str, Counter] = {}
+    for r in rows:
+        counts.setdefault(r[key], Counter())[r["outcome"]] += 1
+    return [(value, *(str(c[o]) for o in OUTCOMES)) for value, c in sorted(counts.items())]
+
+
 def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -> str:
-    """The misses of the episodes `command` ran, by (outcome, reached the mark, termination),
-    then each base's grades."""
+    """The misses of the episodes `command` ran, by (outcome, reached the mark, termination)
+    and by failure mode, then each base's and each part's grades."""
     missed = [r for r in rows if r["outcome"] != "success"]
     lost = [r for r in missed if r["peak_opening"] >= mark]
     peaks = [r["peak_opening"] for r in rows if r["outcome"] == "success"]
@@ -97,9 +107,7 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
         (r["outcome"], "yes" if r["peak_opening"] >= mark else "no", r["termination"])
         for r in missed
     )
-    by_base = {}
-    for r in rows:
-        by_base.setdefault(r["base"], Counter())[r["outcome"]] += 1
+    modes = Counter(r["failure_mode"] for r in missed)
     lines = [
         f"# {cell['category']} {cell['kind']}, {cell['resistance']}: where the misses go wrong",
         "",
@@ -119,10 +127,14 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
         ),
         "",
         *table(
-            ("base", *OUTCOMES),
-            "lrrr",
-            [(base, *(str(c[o]) for o in OUTCOMES)) for base, c in sorted(by_base.items())],
+            ("failure mode (`realikea/tasks/failure_modes.py`)", "misses"),
+            "lr",
+            [(mode, str(n)) for mode, n in sorted(modes.items())],
         ),
+        "",
+        *table(("base", *OUTCOMES), "lrrr", grades_by(rows, "base")),
+        "",
+        *table(("part", *OUTCOMES), "lrrr", grades_by(rows, "part")),
         "",
     ]
     return "\n".join(lines)
