@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from realikea.errors import RealIkeaError
@@ -31,7 +32,11 @@ def episode(
     mode: str | None = "other",
 ):
     row = {"outcome": outcome, "peak_opening": peak, "base": base, "termination": end}
-    return row | {"part": part, "failure_mode": None if outcome == "success" else mode}
+    return row | {
+        "part": part,
+        "failure_mode": None if outcome == "success" else mode,
+        "let_go": outcome == "partial",
+    }
 
 
 def cell(command: str = "realikea eval ...", **rates) -> dict:
@@ -60,6 +65,14 @@ def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses
     assert "| other | 2 |" in text and "| narrow_clearance | 1 |" in text  # the misses' modes
     assert "| fp_cup_96 | 1 | 1 | 0 |" in text
     assert "| fp_lip_36 | 0 | 1 | 1 |" in text
+    assert "| partial | 2 | 2 |" in text and "| success | 1 | 0 |" in text  # let go of a grasp
+
+
+def test_a_grasp_is_let_go_when_the_jaws_open_after_it_first_engaged(misses):
+    engaged = np.array([False, True, True, False, False])
+    assert misses.let_go(engaged, np.array([1.0, 0.1, 0.1, 0.9, 0.9]))
+    assert not misses.let_go(engaged, np.array([1.0, 0.1, 0.1, 0.3, 0.1]))  # still closed
+    assert not misses.let_go(np.zeros(5, bool), np.ones(5))  # open, never engaged
 
 
 def test_the_validation_draw_replaces_the_cells_parts_and_seed(misses):
@@ -105,4 +118,5 @@ def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
     assert "0 of 2 episodes missed; **0 of them had reached the mark" in text
     assert "| drawer_w60_h20 | 0 | 0 | 2 |" in text
     assert "| tp_round_bar_128 | 0 | 0 | 2 |" in text
+    assert "| success | 2 | " in text  # each success sorted by whether it let go
     assert "(same grades as the committed cell)" in text

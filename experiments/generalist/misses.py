@@ -1,6 +1,7 @@
 """Where a committed cell's missed episodes go wrong: the cell's evaluation rerun and recorded
 (`realikea eval ... record=`), each episode sorted by whether its front ever reached the success
-mark, how it ended and its failure mode, and every episode's grade by the base and the part it
+mark, how it ended and its failure mode, whether each episode let go of a grasp (its jaws
+opened after it first engaged the part), and every episode's grade by the base and the part it
 ran on.
 
     python experiments/generalist/misses.py RUN --category finger_pull --kind door \
@@ -19,6 +20,7 @@ let fall back: the grade is the opening at the episode's end.
 from __future__ import annotations
 
 import argparse
+import json
 import shlex
 import subprocess
 import sys
@@ -36,8 +38,12 @@ from realikea.eval.library_grid import read_cells
 from realikea.eval.sweep import VALIDATION_SEED
 from realikea.files import WORKSPACE, atomic_write_text, shown_path
 from realikea.markdown import table
+from realikea.rewards.terms import StageParams
 from realikea.sim.resistance import MODES
 from realikea.tasks.outcome import OUTCOMES
+
+OPEN_ABOVE = StageParams().open_above  # normalized aperture above this: the reward's open jaws
+STAGE_4 = "stage.3"  # the observation's one-hot of the reward stage: the engaged grasp
 
 
 def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
@@ -63,16 +69,31 @@ def record(command: str, target: Path) -> None:
     subprocess.run([*shlex.split(command), f"record={target}"], check=True, cwd=WORKSPACE)
 
 
+def let_go(engaged: np.ndarray, aperture: np.ndarray) -> bool:
+    """Whether the jaws opened (the reward's open jaws) after the episode's first engaged grasp
+    (stage 4)."""
+    if not engaged.any():
+        return False
+    return bool((aperture[int(np.argmax(engaged)) :] > OPEN_ABOVE).any())
+
+
 def episodes(root: Path) -> list[dict]:
     """A recorded evaluation's episodes (every file of the v3.0 layout), each with the largest
-    opening it reached."""
+    opening it reached and whether it let go of a grasp."""
     rows = pq.read_table(root / "meta/episodes").to_pylist()
-    frames = pq.read_table(root / "data", columns=["index", "next.opening"])
+    names = json.loads((root / "meta/info.json").read_text())["features"]["observation.state"]
+    state_index = {name: k for k, name in enumerate(names["names"])}
+    frames = pq.read_table(root / "data", columns=["index", "next.opening", "observation.state"])
+    order = frames.column("index").to_numpy()
     opening = np.empty(frames.num_rows)
-    opening[frames.column("index").to_numpy()] = np.ravel(frames.column("next.opening").to_pylist())
+    opening[order] = np.ravel(frames.column("next.opening").to_pylist())
+    state = np.empty((frames.num_rows, len(state_index)))
+    state[order] = np.asarray(frames.column("observation.state").to_pylist())
+    engaged, aperture = state[:, state_index[STAGE_4]] > 0.5, state[:, state_index["aperture"]]
     for row in rows:
         steps = slice(row["dataset_from_index"], row["dataset_to_index"])
         row["peak_opening"] = float(opening[steps].max())
+        row["let_go"] = let_go(engaged[steps], aperture[steps])
     return rows
 
 
@@ -98,7 +119,8 @@ def grades_by(rows: list[dict], key: str) -> list[tuple[str, ...]]:
 
 def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -> str:
     """The misses of the episodes `command` ran, by (outcome, reached the mark, termination)
-    and by failure mode, then each base's and each part's grades."""
+    and by failure mode; how many episodes of each outcome let go of a grasp; then each base's
+    and each part's grades."""
     missed = [r for r in rows if r["outcome"] != "success"]
     lost = [r for r in missed if r["peak_opening"] >= mark]
     peaks = [r["peak_opening"] for r in rows if r["outcome"] == "success"]
@@ -108,6 +130,8 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
         for r in missed
     )
     modes = Counter(r["failure_mode"] for r in missed)
+    by_outcome = {o: [r for r in rows if r["outcome"] == o] for o in OUTCOMES}
+    released = [(o, str(len(e)), str(sum(r["let_go"] for r in e))) for o, e in by_outcome.items()]
     lines = [
         f"# {cell['category']} {cell['kind']}, {cell['resistance']}: where the misses go wrong",
         "",
@@ -131,6 +155,11 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
             "lr",
             [(mode, str(n)) for mode, n in sorted(modes.items())],
         ),
+        "",
+        "Let go: the jaws opened (normalized aperture above "
+        f"{OPEN_ABOVE:g}, the reward's open jaws) after the episode's first engaged grasp.",
+        "",
+        *table(("outcome", "episodes", "let go of a grasp"), "lrr", released),
         "",
         *table(("base", *OUTCOMES), "lrrr", grades_by(rows, "base")),
         "",

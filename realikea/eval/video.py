@@ -117,14 +117,19 @@ def record_episodes(
     return written
 
 
-def record_draw(cfg, policy, stem: Path) -> dict[str, Path]:
-    """`record_episodes` on the configured draw: `cfg.video_episodes` configurations drawn as
-    the evaluation draws them (`cfg.env.seed`), recorded by `cfg.video_by`; prints and returns
-    key -> MP4."""
-    seed, count = int(cfg.env.seed), int(cfg.video_episodes)
+def drawn_tasks(cfg, count: int) -> list[OpenTask]:
+    """The first `count` configurations drawn as the evaluation draws them (`cfg.env.seed`),
+    each as a task seeded `cfg.env.seed` plus its index: the episodes videos show."""
+    seed = int(cfg.env.seed)
     paths = training_configurations(cfg, count, seed)
-    tasks = [OpenTask(cfg, path, seed + i) for i, path in enumerate(paths)]
-    recorded = record_episodes(tasks, policy, count, stem, cfg.video_by)
+    return [OpenTask(cfg, path, seed + i) for i, path in enumerate(paths)]
+
+
+def record_draw(cfg, policy, stem: Path) -> dict[str, Path]:
+    """`record_episodes` on the configured draw (`drawn_tasks`): `cfg.video_episodes` episodes,
+    recorded by `cfg.video_by`; prints and returns key -> MP4."""
+    count = int(cfg.video_episodes)
+    recorded = record_episodes(drawn_tasks(cfg, count), policy, count, stem, cfg.video_by)
     for key, path in recorded.items():
         print(f"video ({key}): {path}")
     return recorded

@@ -1,0 +1,89 @@
+"""One episode of a policy, step by step: the front's opening, the reward's stage, the jaws'
+aperture and the policy's gripper command after each control step.
+
+    python experiments/generalist/trace.py --episode 7 [--out FILE.md] EVAL_OVERRIDES...
+
+EVAL_OVERRIDES are `realikea eval`'s (e.g. policy=checkpoint policy.path=... asset=finger_pull
+asset.kind=door resistance=smooth dr=randomized asset.split=train env.seed=2000). The episode is
+the one `realikea eval ... video=true` shows at that index: the draw's configuration number
+`--episode` (from 0), seeded env.seed plus it (`realikea.eval.video.drawn_tasks`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from realikea.eval.record import ACTION_NAMES
+from realikea.eval.setup import eval_setup
+from realikea.eval.video import drawn_tasks
+from realikea.files import atomic_write_text, shown_path
+from realikea.markdown import table
+
+GRIPPER = ACTION_NAMES.index("gripper")
+
+
+def trace(task, policy) -> tuple[list[tuple], dict]:
+    """Run one episode; each step's (step, opening, stage, aperture, gripper command) and the
+    episode's final info."""
+    obs = task.reset()
+    policy.reset(np.array([0]), [task.facts()])
+    steps = []
+    while True:
+        action = policy.act(obs[None])[0]
+        result = task.step(action)
+        obs = result.obs
+        steps.append(
+            (len(steps), task.opening, task.state.stage, task.aperture, float(action[GRIPPER]))
+        )
+        if result.terminated or result.truncated:
+            return steps, result.info
+
+
+def report(steps: list[tuple], info: dict, name: str, command: str) -> str:
+    """The trace as markdown: what ran, how it ended, then one row per step."""
+    rows = [
+        (str(k), f"{opening:.2f}", str(stage), f"{aperture:.2f}", f"{grip:+.2f}")
+        for k, opening, stage, aperture, grip in steps
+    ]
+    return "\n".join(
+        [
+            f"# {name}: one episode, step by step",
+            "",
+            f"`python experiments/generalist/trace.py {command}`",
+            "",
+            f"Ended: {info['outcome']} ({info['termination']}), opening {info['opening']:.2f}, "
+            f"failure mode {info.get('failure_mode') or 'none'}. The gripper command is the "
+            "policy's (negative closes the jaws); aperture 0 is closed, 1 open.",
+            "",
+            *table(("step", "opening", "stage", "aperture", "gripper command"), "rrrrr", rows),
+            "",
+        ]
+    )
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--episode", type=int, required=True, help="the draw's index, from 0")
+    parser.add_argument("--out", type=Path, help="also write the trace to this markdown file")
+    parser.add_argument("overrides", nargs="+", help="realikea eval's Hydra overrides")
+    args = parser.parse_args(argv)
+    if args.episode < 0:
+        parser.error(f"--episode {args.episode}: use 0 or more")
+    cfg, policy = eval_setup(args.overrides)
+    task = drawn_tasks(cfg, args.episode + 1)[args.episode]
+    steps, info = trace(task, policy)
+    command = " ".join([f"--episode {args.episode}", *args.overrides])
+    text = report(steps, info, task.config_id, command)
+    print(text)
+    if args.out:
+        atomic_write_text(args.out, text)
+        print(f"written: {shown_path(args.out)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
