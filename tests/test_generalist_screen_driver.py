@@ -103,10 +103,20 @@ def test_a_candidate_of_another_round_is_refused(screen, capsys):
 
 
 def test_round_three_runs_the_default_with_the_opening_paid_past_the_mark(screen):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("open_margin",)
+    assert screen.ROUNDS[3] == ("open_margin",)
     assert screen.MARKS[3] == 0.8
     overrides = screen.single_run("open_margin", 21).overrides
     assert {"task.reward.open_target=1.25", "env.seed=21", "agent.max_iterations=1500"} <= set(
+        overrides
+    )
+    assert "agent=ppo" not in overrides
+
+
+def test_round_four_runs_the_default_with_open_jaws_paid_only_before_a_grasp(screen):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("hold_grasp",)
+    assert screen.MARKS[4] == 0.8
+    overrides = screen.single_run("hold_grasp", 20).overrides
+    assert {"task.reward.reopen_bonus=false", "env.seed=20", "agent.max_iterations=1500"} <= set(
         overrides
     )
     assert "agent=ppo" not in overrides

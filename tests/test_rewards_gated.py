@@ -188,6 +188,23 @@ def test_open_target_pays_the_opening_past_the_threshold_up_to_it():
         GatedParams(open_target=0.9)
 
 
+def test_reopen_bonus_off_pays_open_jaws_only_before_the_first_grasp():
+    """Default: stages 1 and 2 pay open jaws whether or not the episode has grasped. Off: a
+    grasp lost with the jaws closed is not paid to open them, while the way in still is."""
+    held = GatedParams(reopen_bonus=False)
+
+    def approach(p: GatedParams, stage: int, aperture: float, grasped: bool) -> float:
+        v = dataclasses.replace(values(stage=stage, aperture=aperture), grasped=grasped)
+        return dict(GATED.weighted_terms(v, p))["approach"]
+
+    for stage, weight in ((1, P.w_open1), (2, P.w_open2)):
+        paid = P.scale * weight
+        opened, closed = approach(P, stage, 1.0, True), approach(P, stage, 0.0, True)
+        assert opened - closed == pytest.approx(paid)  # default: paid after a grasp too
+        assert approach(held, stage, 1.0, True) == pytest.approx(closed)  # off: not after it
+        assert approach(held, stage, 1.0, False) == pytest.approx(opened)  # the way in: paid
+
+
 def test_an_episodes_rate_sum_is_the_opening_it_made_while_paid(library):
     """On the task: a pinch that opens the drawer earns, summed over the episode, the capped
     opening made from its grasp on (the level before it, a few mm at most, is not paid)."""

@@ -63,7 +63,7 @@ RUN_SETTINGS = {
 }  # fmt: skip
 # task settings added after the freeze, at the values that reproduce what the frozen recipe
 # trained: every run composes them from the defaults, which the recipe file predates
-ADDED_AFTER_FREEZE = {"task": {"reward": {"open_target": 1.0}}}
+ADDED_AFTER_FREEZE = {"task": {"reward": {"open_target": 1.0, "reopen_bonus": True}}}
 
 
 def recipe_of(cfg) -> dict:

@@ -70,11 +70,18 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
     ),
     # the opening paid up to 1.25 x the success threshold (realikea/rewards/gated.py)
     "open_margin": (("task.reward.open_target=1.25",), 1500),
+    # open jaws paid only before the episode's first grasp (realikea/rewards/gated.py)
+    "hold_grasp": (("task.reward.reopen_bonus=false",), 1500),
 }
 # teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
 # student on randomized poses throughout (its teachers have learned them)
 TEACHER_ITERATIONS, TEACHER_SWITCH, STUDENT_ITERATIONS = 400, 200, 200
-ROUNDS = {1: ("group_ppo", "pregrasp", "distilled"), 2: ("fp_pregrasp",), 3: ("open_margin",)}
+ROUNDS = {
+    1: ("group_ppo", "pregrasp", "distilled"),
+    2: ("fp_pregrasp",),
+    3: ("open_margin",),
+    4: ("hold_grasp",),
+}
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 
 

@@ -40,7 +40,10 @@ never lowers the reward. Stage 4 keeps the hand at the handle (`hold`, the appro
 t2) and pays the opening linearly in opening / success threshold plus a bonus from the
 threshold on (20 cm or 45 deg): no resting place short of success. `open_target` (1 by default)
 caps that level: above 1 it also pays opening past the threshold, so a front opened just past it,
-then nudged back as the hand lets go, is no longer where the reward stops. Every term is
+then nudged back as the hand lets go, is no longer where the reward stops. `reopen_bonus`
+(true by default) pays stages 1 and 2 their open jaws after the episode's first grasp too; off,
+a grasp the stage reading loses while the jaws still hold is not paid to let go
+(`experiments/generalist/README.md`, "A partial is a grasp let go"). Every term is
 multiplied by `scale` so a step held at success pays about 2 and value targets stay O(1-200) at
 gamma = 0.99, within reach of rsl-rl's clipping of value updates to +-0.2.
 """
@@ -85,6 +88,8 @@ class GatedParams(StageParams):
     keep_opening: bool = True  # w_progress, w_rate, success_bonus paid in any stage once in stage 4
     # stage 4: the opening level (opening / success threshold) is paid up to this, at least 1
     open_target: float = 1.0
+    # stages 1 and 2 pay open jaws after the episode's first grasp too (false: only before it)
+    reopen_bonus: bool = True
     push_force: float = 400.0  # N at the handle
 
     def __post_init__(self):
@@ -128,10 +133,12 @@ def stage_term(v: StepValues, p: GatedParams) -> float:
 
 
 def approach_term(v: StepValues, p: GatedParams) -> float:
-    """Stages 1 and 2: open jaws and the log approach to t1, then to t2 (the appendix's)."""
+    """Stages 1 and 2: open jaws (unless `reopen_bonus` is off and the episode has grasped) and
+    the log approach to t1, then to t2 (the appendix's)."""
     if v.stage > 2:
         return 0.0
-    s_open = 1.0 if v.aperture > p.open_above else 0.0
+    paid = p.reopen_bonus or not v.grasped
+    s_open = 1.0 if paid and v.aperture > p.open_above else 0.0
     if v.stage == 1:
         return p.w_open1 * s_open + approach(v.d1, p.w_app1, p.eps)
     return p.w_open2 * s_open + approach(v.d2, p.w_app2, p.eps)
