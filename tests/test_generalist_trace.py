@@ -30,7 +30,8 @@ def test_a_scripted_pull_is_traced_step_by_step_into_markdown(trace, tmp_path, c
     first, last = rows[0].split(" | "), rows[-1].split(" | ")
     assert first[0] == "| 0" and last[0] == "| 99"
     assert float(last[1]) >= 0.2  # the drawer opened past the success mark
-    assert last[2] == "4"  # still engaged at the end
+    assert last[2] == "4"  # still engaged at the end ...
+    assert last[3] == "left right"  # ... pinched: both fingers on the bar
     assert "written:" in capsys.readouterr().out
 
 

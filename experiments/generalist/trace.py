@@ -1,5 +1,6 @@
-"""One episode of a policy, step by step: the front's opening, the reward's stage, the jaws'
-aperture and the policy's gripper command after each control step.
+"""One episode of a policy, step by step: the front's opening, the reward's stage, the fingers
+touching the part and whether one hooks it (as the stage read them), the jaws' aperture and the
+policy's gripper command after each control step.
 
     python experiments/generalist/trace.py --episode 7 [--out FILE.md] EVAL_OVERRIDES...
 
@@ -26,9 +27,14 @@ from realikea.markdown import table
 GRIPPER = ACTION_NAMES.index("gripper")
 
 
+def touching(grip) -> str:
+    """The fingers on the part: left, right, both or neither (–)."""
+    return " ".join(side for side, on in (("left", grip.left), ("right", grip.right)) if on) or "–"
+
+
 def trace(task, policy) -> tuple[list[tuple], dict]:
-    """Run one episode; each step's (step, opening, stage, aperture, gripper command) and the
-    episode's final info."""
+    """Run one episode; each step's (step, opening, stage, fingers on the part, hooked,
+    aperture, gripper command) and the episode's final info."""
     obs = task.reset()
     policy.reset(np.array([0]), [task.facts()])
     steps = []
@@ -36,9 +42,11 @@ def trace(task, policy) -> tuple[list[tuple], dict]:
         action = policy.act(obs[None])[0]
         result = task.step(action)
         obs = result.obs
+        grip = task.grip  # as this step's stage read it
         steps.append(
-            (len(steps), task.opening, task.state.stage, task.aperture, float(action[GRIPPER]))
-        )
+            (len(steps), task.opening, task.state.stage, touching(grip), grip.hooked,
+             task.aperture, float(action[GRIPPER]))
+        )  # fmt: skip
         if result.terminated or result.truncated:
             return steps, result.info
 
@@ -46,9 +54,10 @@ def trace(task, policy) -> tuple[list[tuple], dict]:
 def report(steps: list[tuple], info: dict, name: str, command: str) -> str:
     """The trace as markdown: what ran, how it ended, then one row per step."""
     rows = [
-        (str(k), f"{opening:.2f}", str(stage), f"{aperture:.2f}", f"{grip:+.2f}")
-        for k, opening, stage, aperture, grip in steps
-    ]
+        (str(k), f"{opening:.2f}", str(stage), on, "yes" if hooked else "no", f"{aperture:.2f}",
+         f"{grip:+.2f}")
+        for k, opening, stage, on, hooked, aperture, grip in steps
+    ]  # fmt: skip
     return "\n".join(
         [
             f"# {name}: one episode, step by step",
@@ -59,7 +68,19 @@ def report(steps: list[tuple], info: dict, name: str, command: str) -> str:
             f"failure mode {info.get('failure_mode') or 'none'}. The gripper command is the "
             "policy's (negative closes the jaws); aperture 0 is closed, 1 open.",
             "",
-            *table(("step", "opening", "stage", "aperture", "gripper command"), "rrrrr", rows),
+            *table(
+                (
+                    "step",
+                    "opening",
+                    "stage",
+                    "fingers on the part",
+                    "hooked",
+                    "aperture",
+                    "gripper command",
+                ),
+                "rrrllrr",
+                rows,
+            ),  # fmt: skip
             "",
         ]
     )

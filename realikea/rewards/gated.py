@@ -42,7 +42,7 @@ threshold on (20 cm or 45 deg): no resting place short of success. `open_target`
 caps that level: above 1 it also pays opening past the threshold, so a front opened just past it,
 then nudged back as the hand lets go, is no longer where the reward stops. `reopen_bonus`
 (true by default) pays stages 1 and 2 their open jaws after the episode's first grasp too; off,
-a grasp the stage reading loses while the jaws still hold is not paid to let go
+a hand whose hook came off the handle is not paid to open its jaws, which let a door fall back
 (`experiments/generalist/README.md`, "A partial is a grasp let go"). Every term is
 multiplied by `scale` so a step held at success pays about 2 and value targets stay O(1-200) at
 gamma = 0.99, within reach of rsl-rl's clipping of value updates to +-0.2.

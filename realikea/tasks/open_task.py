@@ -123,6 +123,7 @@ class OpenTask:
         self.perturb = PosePerturbation(self.model, self._part, self.model.body(CABINET_ROOT).id)
         self.grip_sensor = GripSensor(self.model, PAD_GEOMS, FINGER_BODIES, PART_BODY)
         self.state = EpisodeState()
+        self.grip = NO_GRIP  # the jaws and the handle as the last step's reward read them
         self._nominal_handle = np.zeros(3)
         self._t1, self._t2 = self.o1, self.o2
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
@@ -237,6 +238,7 @@ class OpenTask:
             grip = self.grip_sensor.read(d, site, u, p.straddle_radius, p.hook_cos)
             if p.w_push:  # read only where it is weighed (off in the default recipe)
                 push = self._closed_stop_force() / lever
+        self.grip = grip  # what the stage read: for traces (experiments/generalist/trace.py)
         return StepValues(
             stage, d1, d2, self.aperture, opening, opening / self._success, grip.straddle,
             grip.engaged, action, s.prev_action.tolist(), s.prev_prev_action.tolist(), ik_ok,
