@@ -23,6 +23,7 @@ from realikea.eval.setup import eval_setup
 from realikea.eval.video import drawn_tasks
 from realikea.files import atomic_write_text, shown_path
 from realikea.markdown import table
+from realikea.policies.rollout import episode
 
 GRIPPER = ACTION_NAMES.index("gripper")
 
@@ -35,20 +36,20 @@ def touching(grip) -> str:
 def trace(task, policy) -> tuple[list[tuple], dict]:
     """Run one episode; each step's (step, opening, stage, fingers on the part, hooked,
     aperture, gripper command) and the episode's final info."""
-    obs = task.reset()
-    policy.reset(np.array([0]), [task.facts()])
-    steps = []
-    while True:
-        action = policy.act(obs[None])[0]
-        result = task.step(action)
-        obs = result.obs
-        grip = task.grip  # as this step's stage read it
+    commands = []
+
+    def keep_command(t: int, action: np.ndarray) -> np.ndarray:
+        commands.append(float(action[GRIPPER]))
+        return action
+
+    steps, info = [], {}
+    for result in episode(task, policy, keep_command):
+        grip, info = task.grip, result.info  # as this step's stage read it; the last: the episode's
         steps.append(
             (len(steps), task.opening, task.state.stage, touching(grip), grip.hooked,
-             task.aperture, float(action[GRIPPER]))
+             task.aperture, commands[-1])
         )  # fmt: skip
-        if result.terminated or result.truncated:
-            return steps, result.info
+    return steps, info
 
 
 def report(steps: list[tuple], info: dict, name: str, command: str) -> str:
@@ -80,7 +81,7 @@ def report(steps: list[tuple], info: dict, name: str, command: str) -> str:
                 ),
                 "rrrllrr",
                 rows,
-            ),  # fmt: skip
+            ),
             "",
         ]
     )
