@@ -120,3 +120,33 @@ def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
     assert "| tp_round_bar_128 | 0 | 0 | 2 |" in text
     assert "| success | 2 | " in text  # each success sorted by whether it let go
     assert "(same grades as the committed cell)" in text
+
+
+def test_a_run_with_no_cells_is_read_on_the_validation_draw_only(
+    misses, tmp_path, monkeypatch, capsys
+):
+    run = tmp_path / "hold_grasp_s20"
+    run.mkdir()
+    (run / "model_1499.pt").touch()
+    monkeypatch.setattr(misses, "record", lambda *a: pytest.fail("a rerun started"))
+    with pytest.raises(SystemExit) as exit_:
+        misses.main([str(run), "--category", "knob", "--kind", "door", "--resistance", "smooth"])
+    assert exit_.value.code == 2
+    assert "validation draw only (--validation)" in capsys.readouterr().err
+    assert not (run / "misses").exists()
+
+
+def test_a_screen_runs_cell_is_its_last_checkpoint_on_an_aim_runs_evaluation(misses, tmp_path):
+    run = tmp_path / "hold_grasp_s20"
+    run.mkdir()
+    for it in (50, 1499, 400):
+        (run / f"model_{it}.pt").touch()
+    cell = misses.screen_cell(run, "door", "finger_pull", "high")
+    assert (cell["kind"], cell["category"], cell["resistance"]) == ("door", "finger_pull", "high")
+    words = cell["command"].split()
+    assert words[:3] == ["realikea", "eval", "policy=checkpoint"]
+    assert words[3].endswith("hold_grasp_s20/model_1499.pt")
+    assert "asset=finger_pull" in words and "resistance=high" in words
+    validation = misses.on_validation_draw(cell["command"]).split()
+    assert validation[-2:] == ["asset.split=train", "env.seed=2000"]
+    assert "asset.split=test" not in validation and "env.seed=1000" not in validation

@@ -11,7 +11,9 @@ RUN is a kept aim run (results/<recipe>/s<seed>/): the cell's command comes from
 The rerun must give the committed cell's fail / partial / success (the same draw and episodes),
 else nothing is written. `--validation` runs the same command on the validation draw instead
 (the train parts under env.seed=VALIDATION_SEED, as a checkpoint sweep does), for a diagnosis
-that may choose a recipe: the test draw must not. Prints the tables and writes
+that may choose a recipe: the test draw must not. A run with no cells (a kept screen run,
+results/screen/<name>) is read on the validation draw only, with the cell's command an aim run's
+evaluation would give its last checkpoint. Prints the tables and writes
 RUN/misses/<category>_<kind>_<resistance>[_validation].md.
 An episode graded below success whose front once stood at or past the mark was opened and then
 let fall back: the grade is the opening at the episode's end.
@@ -34,8 +36,8 @@ import pyarrow.parquet as pq
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.eval.library_grid import read_cells
-from realikea.eval.sweep import VALIDATION_SEED
+from realikea.eval.library_grid import cell_overrides, read_cells
+from realikea.eval.sweep import VALIDATION_SEED, checkpoints
 from realikea.files import WORKSPACE, atomic_write_text, shown_path
 from realikea.markdown import table
 from realikea.rewards.terms import StageParams
@@ -55,6 +57,15 @@ def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict
             f"(it has {sorted(cells) or 'none'})"
         )
     return cells[(kind, category, resistance)]
+
+
+def screen_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
+    """The cell an aim run's evaluation would give a run with no cells (a screen run): its last
+    checkpoint, 50 episodes on the test draw (which `--validation` replaces)."""
+    _, last = checkpoints(run)[-1]
+    words = cell_overrides(last, kind, category, resistance, episodes=50, seed=1000, extra=[])
+    where = {"kind": kind, "category": category, "resistance": resistance}
+    return where | {"command": shlex.join(["realikea", "eval", *words])}
 
 
 def on_validation_draw(command: str) -> str:
@@ -171,14 +182,25 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run", type=Path, help="a kept aim run: results/<recipe>/s<seed>")
+    parser.add_argument(
+        "run", type=Path, help="a kept aim run (results/<recipe>/s<seed>) or screen run"
+    )
     parser.add_argument("--category", choices=CATEGORIES, required=True)
     parser.add_argument("--kind", choices=list(BASE_KINDS), required=True)
     parser.add_argument("--resistance", choices=list(MODES), required=True)
     parser.add_argument("--validation", action="store_true", help="on the validation draw")
     args = parser.parse_args(argv)
+    where = (args.run, args.kind, args.category, args.resistance)
     try:
-        cell = committed_cell(args.run, args.kind, args.category, args.resistance)
+        if (args.run / "cells.jsonl").is_file():
+            cell = committed_cell(*where)
+        elif args.validation:
+            cell = screen_cell(*where)
+        else:
+            raise RealIkeaError(
+                f"{shown_path(args.run)} has no cells.jsonl: a run with no committed cells is "
+                "read on the validation draw only (--validation)"
+            )
     except RealIkeaError as err:
         parser.error(str(err))
     joint = BASE_KINDS[args.kind]
