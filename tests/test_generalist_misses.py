@@ -118,6 +118,11 @@ def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
     assert "0 of 2 episodes missed; **0 of them had reached the mark" in text
     assert "| drawer_w60_h20 | 0 | 0 | 2 |" in text
     assert "| tp_round_bar_128 | 0 | 0 | 2 |" in text
+    kept = [json.loads(line) for line in (run / "misses/two_point_drawer_smooth.jsonl").open()]
+    assert [(e["part"], e["base"], e["outcome"]) for e in kept] == [
+        ("tp_round_bar_128", "drawer_w60_h20", "success")
+    ] * 2
+    assert set(kept[0]) == set(misses.EPISODE_KEYS)
     assert "| success | 2 | " in text  # each success sorted by whether it let go
     assert "(same grades as the committed cell)" in text
 

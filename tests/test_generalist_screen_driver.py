@@ -113,10 +113,18 @@ def test_round_three_runs_the_default_with_the_opening_paid_past_the_mark(screen
 
 
 def test_round_four_runs_the_default_with_open_jaws_paid_only_before_a_grasp(screen):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("hold_grasp",)
+    assert screen.ROUNDS[4] == ("hold_grasp",)
     assert screen.MARKS[4] == 0.8
     overrides = screen.single_run("hold_grasp", 20).overrides
     assert {"task.reward.reopen_bonus=false", "env.seed=20", "agent.max_iterations=1500"} <= set(
         overrides
     )
+    assert "agent=ppo" not in overrides
+
+
+def test_round_five_runs_the_default_with_each_envs_configuration_rotating(screen):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("rotate",)
+    assert screen.MARKS[5] == 0.8
+    overrides = screen.single_run("rotate", 21).overrides
+    assert {"asset.rotate_every=10", "env.seed=21", "agent.max_iterations=1500"} <= set(overrides)
     assert "agent=ppo" not in overrides

@@ -14,7 +14,8 @@ else nothing is written. `--validation` runs the same command on the validation 
 that may choose a recipe: the test draw must not. A run with no cells (a kept screen run,
 results/screen/<name>) is read on the validation draw only, with the cell's command an aim run's
 evaluation would give its last checkpoint. Prints the tables and writes
-RUN/misses/<category>_<kind>_<resistance>[_validation].md.
+RUN/misses/<category>_<kind>_<resistance>[_validation].md, and beside it each episode's
+part, base, grade and evidence (one JSON line each, `.jsonl`; what parts.py pools).
 An episode graded below success whose front once stood at or past the mark was opened and then
 let fall back: the grade is the opening at the episode's end.
 """
@@ -46,6 +47,10 @@ from realikea.tasks.outcome import OUTCOMES
 
 OPEN_ABOVE = StageParams().open_above  # normalized aperture above this: the reward's open jaws
 STAGE_4 = "stage.3"  # the observation's one-hot of the reward stage: the engaged grasp
+# what RUN/misses/*.jsonl keeps of each episode
+EPISODE_KEYS = (
+    "part", "base", "outcome", "termination", "failure_mode", "peak_opening", "let_go"
+)  # fmt: skip
 
 
 def committed_cell(run: Path, kind: str, category: str, resistance: str) -> dict:
@@ -219,9 +224,11 @@ def main(argv: list[str]) -> int:
     draw = "_validation" if args.validation else ""
     out = args.run / "misses" / f"{args.category}_{args.kind}_{args.resistance}{draw}.md"
     out.parent.mkdir(exist_ok=True)
+    kept = [{k: r[k] for k in EPISODE_KEYS} for r in rows]
+    atomic_write_text(out.with_suffix(".jsonl"), "".join(json.dumps(r) + "\n" for r in kept))
     atomic_write_text(out, text)
     print(text)
-    print(f"written: {shown_path(out)}")
+    print(f"written: {shown_path(out)}, {shown_path(out.with_suffix('.jsonl'))}")
     return 0
 
 

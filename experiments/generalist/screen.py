@@ -72,6 +72,9 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
     "open_margin": (("task.reward.open_target=1.25",), 1500),
     # open jaws paid only before the episode's first grasp (realikea/rewards/gated.py)
     "hold_grasp": (("task.reward.reopen_bonus=false",), 1500),
+    # every 10 iterations each env takes its group's next configuration
+    # (realikea/training/rotating_draw.py): a group trains on all of its configurations
+    "rotate": (("asset.rotate_every=10",), 1500),
 }
 # teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
 # student on randomized poses throughout (its teachers have learned them)
@@ -81,6 +84,7 @@ ROUNDS = {
     2: ("fp_pregrasp",),
     3: ("open_margin",),
     4: ("hold_grasp",),
+    5: ("rotate",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 

@@ -5,9 +5,9 @@ training iteration is env steps // num_steps_per_env (the runner collects that m
 iteration); when it changes the pool hears of it, so the two-phase randomization switches at
 `cfg.dr.switch_iteration`. After resuming from a checkpoint call `set_iteration(it)`.
 
-With a `draw` (`realikea/training/success_draw.py`) the adapter feeds it every finished episode
-and, at each new iteration, hands the pool the envs it moves (`EnvPool.reassign`); the envs per
-group are logged as `/draw/<group>`.
+With a `draw` (`realikea/training/success_draw.py`, `rotating_draw.py`) the adapter feeds it
+every finished episode and, at each new iteration (and on resuming), hands the pool the envs it
+moves (`EnvPool.reassign`); the draw's `shares()` are logged (`/draw/<group>`, `/draw/rotation`).
 """
 
 from __future__ import annotations
@@ -81,6 +81,8 @@ class RslRlVecEnv(VecEnv):
         self.common_step_counter = int(iteration) * self.num_steps_per_env
         self.iteration = int(iteration)
         self.pool.set_iteration(self.iteration)
+        if self.draw is not None and (moves := self.draw.moves(self.iteration)):
+            self.pool.reassign(moves)  # a rotating draw's envs, back where the run left them
 
     # --- VecEnv -------------------------------------------------------------------------------
     def _observations(self, obs: np.ndarray) -> TensorDict:

@@ -25,6 +25,7 @@ from realikea.training.distillation import (
     distilling,
     teacher_paths,
 )
+from realikea.training.rotating_draw import RotatingDraw
 from realikea.training.success_draw import SuccessFollowingDraw
 
 GROUP_PPO = "realikea.training.group_ppo:GroupPPO"
@@ -156,7 +157,7 @@ def console(cfg: DictConfig, run_dir: Path) -> Iterator[None]:
         yield
 
 
-def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
+def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | RotatingDraw | TrainingDraw:
     """Every check of a launch's inputs that needs no simulation (settings in range, the reward
     variant, the console, a resumable checkpoint, a non-empty draw of configurations); returns
     the draw (not yet built)."""
@@ -170,7 +171,9 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
     if cfg.train.get("init_actor"):
         check_init_actor(cfg)
     n, seed = int(cfg.env.num_envs), int(cfg.env.seed)
-    if cfg.asset.get("follow_success") is not None:
+    if cfg.asset.get("rotate_every") is not None:
+        draw = RotatingDraw.from_config(cfg, n, seed)
+    elif cfg.asset.get("follow_success") is not None:
         draw = SuccessFollowingDraw.from_config(cfg, n, seed)
     else:
         draw = training_draw(cfg, n, seed)
@@ -179,9 +182,9 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | TrainingDraw:
     return draw
 
 
-def env_groups(draw: SuccessFollowingDraw | TrainingDraw) -> list[str]:
+def env_groups(draw: SuccessFollowingDraw | RotatingDraw | TrainingDraw) -> list[str]:
     """Each env's category x kind group; none for a success-following draw, which moves envs
-    between groups as it goes."""
+    between groups as it goes (a rotating draw keeps them)."""
     return [] if isinstance(draw, SuccessFollowingDraw) else [c.group for c in draw.configurations]
 
 
@@ -199,14 +202,14 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
     torch.set_num_threads(int(cfg.train.torch_threads))
     torch.manual_seed(int(cfg.env.seed))
     np.random.seed(int(cfg.env.seed))
-    follow = draw if isinstance(draw, SuccessFollowingDraw) else None
-    pool = EnvPool(cfg, follow.paths() if follow else built_models(cfg, draw.configurations))
+    moving = draw if isinstance(draw, SuccessFollowingDraw | RotatingDraw) else None
+    pool = EnvPool(cfg, moving.paths() if moving else built_models(cfg, draw.configurations))
     try:
         env = RslRlVecEnv(
             pool,
             cfg,
             int(cfg.agent.num_steps_per_env),
-            draw=follow,
+            draw=moving,
             labels=draw.labels,
             groups=env_groups(draw),
         )
