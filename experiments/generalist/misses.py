@@ -15,7 +15,7 @@ that may choose a recipe: the test draw must not. A run with no cells (a kept sc
 results/screen/<name>) is read on the validation draw only, with the cell's command an aim run's
 evaluation would give its last checkpoint. Prints the tables and writes
 RUN/misses/<category>_<kind>_<resistance>[_validation].md, and beside it each episode's
-part, base, grade and evidence (one JSON line each, `.jsonl`; what parts.py pools).
+part, base, grade and evidence (one JSON line each, `.jsonl`; what finger_pull_parts.py pools).
 An episode graded below success whose front once stood at or past the mark was opened and then
 let fall back: the grade is the opening at the episode's end.
 """

@@ -3,7 +3,7 @@
 Why: the plain draw gives each env one configuration for the whole run, so with 64 envs over
 the library's nine category x kind groups a group trains on about 7 of its configurations, and
 the seed decides which. Finger-pull doors have 76 train configurations; seed 20's seven hold
-four on parts no committed generalist opens on the validation draw
+four on parts the committed generalists open in 1 of their 42 validation episodes
 (`experiments/generalist/README.md`, "Which finger pulls open"). Here every `every` iterations
 each env moves to another configuration of its own group (`EnvPool.reassign`: at the end of its
 current episode), so over a run every group's envs cycle through all of its configurations.
