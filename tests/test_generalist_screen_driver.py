@@ -123,8 +123,23 @@ def test_round_four_runs_the_default_with_open_jaws_paid_only_before_a_grasp(scr
 
 
 def test_round_five_runs_the_default_with_each_envs_configuration_rotating(screen):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("rotate",)
+    assert screen.ROUNDS[5] == ("rotate",)
     assert screen.MARKS[5] == 0.8
     overrides = screen.single_run("rotate", 21).overrides
     assert {"asset.rotate_every=10", "env.seed=21", "agent.max_iterations=1500"} <= set(overrides)
+    assert "agent=ppo" not in overrides
+
+
+def test_round_six_rotates_and_starts_some_finger_pull_doors_ajar(screen):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("rotate_ajar",)
+    assert screen.MARKS[6] == 0.8
+    overrides = screen.single_run("rotate_ajar", 20).overrides
+    assert {
+        "asset.rotate_every=10",
+        "+task.ajar_share=0.3",
+        "+task.ajar_groups=[finger_pull_door]",
+        "+task.ajar_range=[0.4,1.0]",
+        "env.seed=20",
+        "agent.max_iterations=1500",
+    } <= set(overrides)
     assert "agent=ppo" not in overrides

@@ -1,6 +1,7 @@
-"""The start-state curriculum (realikea/tasks/start_state.py): which episodes start at the
-pre-grasp pose, where the hand then is, bad settings refused before any work, and such episodes
-kept out of the training logs' success and out of evaluations."""
+"""The start-state curricula (realikea/tasks/start_state.py): which episodes start at the
+pre-grasp pose or with the front ajar, where the hand and the front then are, bad settings
+refused before any work, and such episodes kept out of the training logs' success and out of
+evaluations."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.setup import effective_config
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.open_task import OpenTask
-from realikea.tasks.start_state import PregraspStart
+from realikea.tasks.start_state import CURRICULUM_KEYS, AjarStart, PregraspStart
 from realikea.training.train import check_inputs
 
 PIN = ["asset=finger_pull", "asset.part=fp_cup_128", "asset.base=door_left_w40_h80", "dr=fixed"]
@@ -72,6 +73,59 @@ def test_a_bad_setting_is_refused_by_name_before_any_work(extra, message):
         check_inputs(cfg)
 
 
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["+task.ajar_share=-0.1"], r"task.ajar_share=-0.1: use a share in \[0, 1\]"),
+        (["+task.ajar_share=0.3", "+task.ajar_groups=[door]"], "unknown group door"),
+        (["+task.ajar_share=0.3", "+task.ajar_range=[0.9,0.4]"], r"task.ajar_range=\[0.9, 0.4\]"),
+        (["+task.ajar_share=0.3", "+task.ajar_range=[0.4,1.5]"], "0 <= low <= high <= 1"),
+        (["+task.ajar_share=0.3", "+task.ajar_range=0.5"], "task.ajar_range=0.5: use"),
+    ],
+)
+def test_a_bad_ajar_setting_is_refused_by_name_before_any_work(extra, message):
+    cfg = load_config(extra)
+    with pytest.raises(RealIkeaError, match=message):
+        AjarStart.from_config(cfg.task)
+    with pytest.raises(RealIkeaError, match=message):
+        check_inputs(cfg)
+
+
+def test_an_ajar_episode_starts_with_the_front_open_inside_its_range_the_hand_at_home(door):
+    _, home, _ = start(door)
+    openings = []
+    for seed in range(6):
+        overrides, mjcf = door
+        extra = ["+task.ajar_share=1.0", "+task.ajar_groups=[finger_pull_door]"]
+        task = OpenTask(load_config([*overrides, *extra, "+task.ajar_range=[0.5,0.9]"]), mjcf, seed)
+        task.reset()
+        openings.append(task.opening / task._success)
+        reach = task.data.site_xpos[task._tcp] - (task._nominal_handle + task._t1)
+        assert np.linalg.norm(reach) == pytest.approx(home)  # the hand where it starts at home
+        assert task.state.grasped and task.state.progress == pytest.approx(openings[-1])
+        assert not task.data.qvel.any()
+    assert all(0.5 <= f < 0.9 for f in openings) and len(set(openings)) == len(openings)
+
+
+def test_an_ajar_start_pays_the_opening_it_keeps_and_charges_what_it_loses(door):
+    """Counted as grasped, the level is paid from the first step and closing costs (the rate)."""
+    extra = ["+task.ajar_share=1.0", "+task.ajar_range=[0.8,0.8]"]
+    task, _, _ = start(door, *extra)
+    first = task.step(np.zeros(task.action_size))
+    closed, _, _ = start(door)
+    assert first.reward > closed.step(np.zeros(closed.action_size)).reward
+    assert task.state.term_sums["open"] > 0.0
+    info = run_out(task)
+    assert info["ajar"] is True and "ajar" in OpenTask.episode_keys
+    assert "ajar" not in run_out(start(door)[0])
+
+
+def test_with_both_curricula_an_episode_takes_the_pregrasp_start_first(door):
+    task, distance, _ = start(door, "+task.pregrasp_share=1.0", "+task.ajar_share=1.0")
+    assert distance < 0.005 and task.opening == pytest.approx(0.0, abs=1e-6)
+    assert not task.state.ajar
+
+
 def test_an_episode_begun_at_the_pregrasp_pose_says_so_and_others_do_not(door):
     task, _, _ = start(door, "+task.pregrasp_share=1.0")
     info = run_out(task)
@@ -87,7 +141,7 @@ def run_out(task: OpenTask) -> dict:
             return result.info
 
 
-def test_training_logs_count_only_home_starts_and_show_pregrasp_starts_apart():
+def test_training_logs_count_only_home_starts_and_show_curriculum_starts_apart():
     pool = SimpleNamespace(num_envs=2, num_actions=5, obs_size=4, horizon=10, iteration=0)
     pool.counters = {}
     env = RslRlVecEnv(pool, load_config(), 8)
@@ -96,15 +150,21 @@ def test_training_logs_count_only_home_starts_and_show_pregrasp_starts_apart():
         [
             {**episode, "outcome": "fail", "stage": 1},
             {**episode, "outcome": "success", "stage": 4, "pregrasp": True},
+            {**episode, "outcome": "partial", "stage": 4, "ajar": True},
         ]
     )
     assert log["/success/knob_door"].tolist() == [0.0]
     assert log["/episode/success"].tolist() == [0.0]
     assert log["/pregrasp_success/knob_door"].tolist() == [1.0]
+    assert log["/ajar_success/knob_door"].tolist() == [0.0]
 
 
 def test_an_evaluation_does_not_inherit_the_runs_curriculum():
-    run_cfg = load_config(["+task.pregrasp_share=0.5", "+task.pregrasp_groups=[knob_door]"])
+    run_cfg = load_config(
+        ["+task.pregrasp_share=0.5", "+task.pregrasp_groups=[knob_door]", "+task.ajar_share=0.3"]
+        + ["+task.ajar_groups=[knob_door]", "+task.ajar_range=[0.4,0.9]"]
+    )
     cfg = effective_config(load_config([], "eval"), run_cfg, [])
-    assert "pregrasp_share" not in cfg.task and "pregrasp_groups" not in cfg.task
+    assert not set(cfg.task) & set(CURRICULUM_KEYS)
+    assert set(run_cfg.task) >= set(CURRICULUM_KEYS)
     assert cfg.task.reward == run_cfg.task.reward  # the rest of the run's task is kept

@@ -75,6 +75,17 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
     # every 10 iterations each env takes its group's next configuration
     # (realikea/training/rotating_draw.py): a group trains on all of its configurations
     "rotate": (("asset.rotate_every=10",), 1500),
+    # rotate's draw, and 0.3 of the finger-pull door episodes start with the door ajar at 0.4-1.0
+    # of the success mark, the hand at home (realikea/tasks/start_state.py)
+    "rotate_ajar": (
+        (
+            "asset.rotate_every=10",
+            "+task.ajar_share=0.3",
+            "+task.ajar_groups=[finger_pull_door]",
+            "+task.ajar_range=[0.4,1.0]",
+        ),
+        1500,
+    ),
 }
 # teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
 # student on randomized poses throughout (its teachers have learned them)
@@ -85,6 +96,7 @@ ROUNDS = {
     3: ("open_margin",),
     4: ("hold_grasp",),
     5: ("rotate",),
+    6: ("rotate_ajar",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 

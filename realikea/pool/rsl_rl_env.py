@@ -25,6 +25,7 @@ from realikea.errors import RealIkeaError
 from realikea.pool.env_pool import EnvPool
 from realikea.rewards import STAGES
 from realikea.tasks.outcome import OUTCOMES
+from realikea.tasks.start_state import STARTS, began_off_home
 from realikea.tasks.terminations import TERMINATIONS, TIMEOUT
 
 OBS_GROUPS = ("policy", "critic")
@@ -137,8 +138,8 @@ class RslRlVecEnv(VecEnv):
         (`/success/<category>_<kind>`, `/group_stage/<category>_<kind>`, over the iteration's
         episodes of that group: a group stuck before the pull shows as a low stage); and the
         pool's counters. Outcomes and group values count the episodes that started at home, the
-        task as evaluated; those a start-state curriculum began at the pre-grasp pose show as
-        `/pregrasp_success/<category>_<kind>`."""
+        task as evaluated; those a start-state curriculum began elsewhere show as
+        `/pregrasp_success/<category>_<kind>` or `/ajar_success/<category>_<kind>`."""
         log: dict[str, float | torch.Tensor] = {}
         if episodes:
             names = [e["termination"] for e in episodes]
@@ -150,15 +151,16 @@ class RslRlVecEnv(VecEnv):
         stages = [int(e["stage"]) for e in episodes if "stage" in e]
         for stage in range(1, STAGES + 1) if stages else ():
             log[f"/end_stage/{stage}"] = torch.tensor([float(x == stage) for x in stages])
-        pregrasp: dict[str, list[float]] = {}
+        curricula: dict[str, list[float]] = {}
         for e in episodes:
-            if e.get("pregrasp"):
-                group = group_name(e["category"], e["kind"])
-                pregrasp.setdefault(f"/pregrasp_success/{group}", []).append(
-                    float(e["outcome"] == "success")
-                )
-        log.update({name: torch.tensor(values) for name, values in sorted(pregrasp.items())})
-        finished = [e for e in episodes if "outcome" in e and not e.get("pregrasp")]
+            for flag in STARTS:
+                if e.get(flag):
+                    group = group_name(e["category"], e["kind"])
+                    curricula.setdefault(f"/{flag}_success/{group}", []).append(
+                        float(e["outcome"] == "success")
+                    )
+        log.update({name: torch.tensor(values) for name, values in sorted(curricula.items())})
+        finished = [e for e in episodes if "outcome" in e and not began_off_home(e)]
         if finished:
             labels = [e["outcome"] for e in finished]
             for name in OUTCOMES:

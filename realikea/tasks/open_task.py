@@ -49,7 +49,7 @@ from realikea.tasks.failure_modes import FAILURE_KEYS, FailureLog, FailureMonito
 from realikea.tasks.grip import NO_GRIP, GripSensor
 from realikea.tasks.outcome import outcome
 from realikea.tasks.randomization import PosePerturbation, Randomization
-from realikea.tasks.start_state import PregraspStart
+from realikea.tasks.start_state import AjarStart, PregraspStart
 from realikea.tasks.terminations import TIMEOUT, Terminations, termination
 
 ACTION_SIZE = 5
@@ -80,7 +80,8 @@ class EpisodeState:
     prev_prev_action: np.ndarray = field(default_factory=lambda: np.zeros(ACTION_SIZE))
     ik_failures: int = 0
     stagnant: int = 0
-    at_pregrasp: bool = False  # started at the pre-grasp pose (the start-state curriculum)
+    at_pregrasp: bool = False  # started at the pre-grasp pose (a start-state curriculum)
+    ajar: bool = False  # started with the front ajar (a start-state curriculum)
     term_sums: dict[str, float] = field(default_factory=dict)  # reward term -> episode sum
     contacts: ContactLog = field(default_factory=ContactLog)
     failure: FailureLog = field(default_factory=FailureLog)
@@ -95,7 +96,7 @@ class OpenTask:
     # what an episode's record in the env pool keeps of the final info
     episode_keys = (
         "outcome", "termination", "opening", "stage", "reward_terms", "category", "kind",
-        "pregrasp",
+        "pregrasp", "ajar",
         *SUMMARY_KEYS,
         *FAILURE_KEYS,
     )  # fmt: skip
@@ -116,6 +117,7 @@ class OpenTask:
         self.reward, self.params = reward_from_config(OmegaConf.to_container(task.reward))
         self.randomization = Randomization.from_config(cfg.dr)
         self.start = PregraspStart.from_config(task)
+        self.ajar = AjarStart.from_config(task)
         self.rng = np.random.default_rng(seed)
         self._read_task(task)
         self.iteration = 0
@@ -332,8 +334,11 @@ class OpenTask:
         # the paper's approach offsets share one lateral bias, along the handle's long axis
         lateral = self.lateral_bias * self.data.xmat[self._part].reshape(3, 3)[:, 0]
         self._t1, self._t2 = self.o1 + lateral, self.o2 + lateral
-        if self.start.draws(group_name(self.part.category, self.base.kind), self.rng):
+        group = group_name(self.part.category, self.base.kind)
+        if self.start.draws(group, self.rng):
             self._start_at_pregrasp()
+        elif (fraction := self.ajar.draw(group, self.rng)) is not None:
+            self._start_ajar(fraction)
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)
         self.state.progress = values.progress
@@ -349,6 +354,14 @@ class OpenTask:
             return
         reset_home(self.model, self.data, self.cfg, posture)
         self.state.at_pregrasp = True
+
+    def _start_ajar(self, fraction: float) -> None:
+        """Open the front to `fraction` of the success mark, at rest, the hand at home
+        (`realikea/tasks/start_state.py`). The episode counts as grasped: the reward pays the
+        opening from the first step, as after a hook that pulled this far and came off."""
+        self.data.qpos[self._front_q] = fraction * self._success
+        mujoco.mj_forward(self.model, self.data)
+        self.state.ajar = self.state.grasped = True
 
     def apply_action(self, action) -> bool:
         """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""
@@ -450,6 +463,8 @@ class OpenTask:
             info["category"], info["kind"] = self.part.category, self.base.kind
             if s.at_pregrasp:
                 info["pregrasp"] = True
+            if s.ajar:
+                info["ajar"] = True
             if self.contact_monitor is not None:
                 period = self.classifier.sample_substeps * self.model.opt.timestep
                 info.update(s.contacts.summary(self.part.category, self.classifier, period))

@@ -21,6 +21,7 @@ from omegaconf import DictConfig
 from realikea.assets.library import TrainingDraw, built_models, training_draw, turns
 from realikea.config import config_number
 from realikea.errors import RealIkeaError
+from realikea.tasks.start_state import began_off_home
 
 # the `asset.stratify` keys an episode's record carries under the same names
 RECORD_KEYS = ("category", "kind")
@@ -65,10 +66,10 @@ class SuccessFollowingDraw:
         return built_models(self.cfg, self.draw.configurations)
 
     def record(self, episodes: list[dict]) -> None:
-        """Count the success of the episodes that carry an outcome and started at home (not at
-        a start-state curriculum's pre-grasp pose)."""
+        """Count the success of the episodes that carry an outcome and started at home (not
+        where a start-state curriculum began them)."""
         for e in episodes:
-            if "outcome" in e and not e.get("pregrasp"):
+            if "outcome" in e and not began_off_home(e):
                 label = tuple(e[k] for k in self.draw.keys)
                 counts = self._window.setdefault(label, [0, 0])
                 counts[0] += e["outcome"] == "success"

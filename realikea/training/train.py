@@ -18,7 +18,7 @@ from realikea.policies.checkpoint import check_layout, checkpoint_infos, load_sa
 from realikea.pool.env_pool import EnvPool
 from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.rewards import reward_from_config, variant_name
-from realikea.tasks.start_state import PregraspStart
+from realikea.tasks.start_state import AjarStart, PregraspStart
 from realikea.training.distillation import (
     check_teachers,
     distillation_config,
@@ -164,6 +164,7 @@ def check_inputs(cfg: DictConfig) -> SuccessFollowingDraw | RotatingDraw | Train
     check_settings(cfg)
     reward_from_config(OmegaConf.to_container(cfg.task.reward))  # a bad variant fails here
     PregraspStart.from_config(cfg.task)  # a bad share or group too
+    AjarStart.from_config(cfg.task)  # and a bad range
     if cfg.train.console not in CONSOLES:
         raise RealIkeaError(f"train.console={cfg.train.console}: use one of {', '.join(CONSOLES)}")
     if cfg.train.resume:
