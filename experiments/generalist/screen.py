@@ -45,6 +45,11 @@ COMMON = ("logger=none",)
 # single-task agent (the library draw's default became agent=multitask, round 1's adopted
 # group_ppo, after it); later rounds run on the defaults round 1 left
 ROUND_1 = ("agent=ppo",)
+AJAR_FP_DOORS = (
+    "+task.ajar_share=0.3",
+    "+task.ajar_groups=[finger_pull_door]",
+    "+task.ajar_range=[0.4,1.0]",
+)
 SINGLE_RUN = {  # name -> (overrides, iterations)
     "group_ppo": (
         (
@@ -77,15 +82,7 @@ SINGLE_RUN = {  # name -> (overrides, iterations)
     "rotate": (("asset.rotate_every=10",), 1500),
     # rotate's draw, and 0.3 of the finger-pull door episodes start with the door ajar at 0.4-1.0
     # of the success mark, the hand at home (realikea/tasks/start_state.py)
-    "rotate_ajar": (
-        (
-            "asset.rotate_every=10",
-            "+task.ajar_share=0.3",
-            "+task.ajar_groups=[finger_pull_door]",
-            "+task.ajar_range=[0.4,1.0]",
-        ),
-        1500,
-    ),
+    "rotate_ajar": (("asset.rotate_every=10", *AJAR_FP_DOORS), 1500),
 }
 # teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
 # student on randomized poses throughout (its teachers have learned them)
