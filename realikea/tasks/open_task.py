@@ -337,7 +337,7 @@ class OpenTask:
         group = group_name(self.part.category, self.base.kind)
         if self.start.draws(group, self.rng):
             self._start_at_pregrasp()
-        elif (fraction := self.ajar.draw(group, self.rng)) is not None:
+        elif (fraction := self.ajar.opening(group, self.rng)) is not None:
             self._start_ajar(fraction)
         values = self._step_values(1, [0.0] * ACTION_SIZE, True)
         self.state.stage = self.reward.next_stage(1, values, self.params)

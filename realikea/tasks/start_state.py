@@ -60,19 +60,14 @@ def share_and_groups(task: DictConfig, prefix: str) -> tuple[float, tuple[str, .
 
 
 @dataclass(frozen=True)
-class PregraspStart:
-    """Which episodes start at the pre-grasp pose: a `share` of those of `groups` (all: empty)."""
+class ShareOfGroups:
+    """A curriculum's episodes: a `share` of those of `groups` (all: empty)."""
 
     share: float = 0.0
     groups: tuple[str, ...] = ()
 
-    @classmethod
-    def from_config(cls, task: DictConfig) -> PregraspStart:
-        """From `task.pregrasp_share` and `task.pregrasp_groups` (`share_and_groups`)."""
-        return cls(*share_and_groups(task, "pregrasp"))
-
     def draws(self, group: str, rng: np.random.Generator) -> bool:
-        """Whether this episode of `group` starts at the pre-grasp pose (a draw from `rng` only
+        """Whether this episode of `group` takes the curriculum's start (a draw from `rng` only
         where the curriculum applies)."""
         if not self.share or (self.groups and group not in self.groups):
             return False
@@ -80,12 +75,20 @@ class PregraspStart:
 
 
 @dataclass(frozen=True)
-class AjarStart:
-    """Which episodes start with the front ajar, and how far: a `share` of those of `groups`
-    (all: empty), opened to a uniform fraction in [low, high) of the success mark."""
+class PregraspStart(ShareOfGroups):
+    """Which episodes start at the pre-grasp pose."""
 
-    share: float = 0.0
-    groups: tuple[str, ...] = ()
+    @classmethod
+    def from_config(cls, task: DictConfig) -> PregraspStart:
+        """From `task.pregrasp_share` and `task.pregrasp_groups` (`share_and_groups`)."""
+        return cls(*share_and_groups(task, "pregrasp"))
+
+
+@dataclass(frozen=True)
+class AjarStart(ShareOfGroups):
+    """Which episodes start with the front ajar, and how far: opened to a uniform fraction in
+    [low, high) of the success mark."""
+
     low: float = 0.4
     high: float = 1.0
 
@@ -106,12 +109,8 @@ class AjarStart:
             )
         return cls(share, groups, float(values[0]), float(values[1]))
 
-    def draw(self, group: str, rng: np.random.Generator) -> float | None:
+    def opening(self, group: str, rng: np.random.Generator) -> float | None:
         """The fraction of the success mark this episode of `group` starts opened to, or None
         for a closed front (random numbers drawn from `rng` only where the curriculum
         applies)."""
-        if not self.share or (self.groups and group not in self.groups):
-            return None
-        if rng.random() >= self.share:
-            return None
-        return float(rng.uniform(self.low, self.high))
+        return float(rng.uniform(self.low, self.high)) if self.draws(group, rng) else None
