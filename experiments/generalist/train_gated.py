@@ -9,7 +9,9 @@ Recipes: `default` is `python train.py` (CoACD, normal, every category and kind,
 iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`;
 `default_doors2` the default with twice the draw's turns for door groups (`asset.group_weights`);
 `default_follow` the default with a draw that follows training success
-(`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations).
+(`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations);
+`fp_doors_rotate` finger-pull door specialists taking turns over the group's configurations
+(`asset.rotate_every`, 1,000 iterations).
 Each run gets one env worker (two side by side on the 2 cores). Then evaluate each kept
 checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its own geometry:
 `evaluate.py CHECKPOINT hull_high/s0_own collision=hull --modes high`).
@@ -47,8 +49,19 @@ RECIPES = {
         "agent.max_iterations=600",
         "dr.switch_iteration=300",
     ],
+    # finger-pull door specialists whose envs take turns over all 76 of the group's train
+    # configurations every 10 iterations, 1,000 iterations, poses fixed to 500: how far a policy
+    # given nothing else to learn opens that group (README, "A finger-pull door specialist")
+    "fp_doors_rotate": [
+        "agent=ppo",
+        "asset=finger_pull",
+        "asset.kind=door",
+        "asset.rotate_every=10",
+        "agent.max_iterations=1000",
+        "dr.switch_iteration=500",
+    ],
 }
-SHORTER = {"doors": 600}  # recipes shorter than ITERATIONS
+SHORTER = {"doors": 600, "fp_doors_rotate": 1000}  # recipes shorter than ITERATIONS
 
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
