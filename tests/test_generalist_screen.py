@@ -53,3 +53,27 @@ def test_a_missing_group_or_a_run_shorter_than_the_window_fails(rule, tmp_path):
     assert rule.last_window(absent)[groups[3]] is None and rule.main([str(absent)]) == 1
     assert set(rule.last_window(short).values()) == {None} and rule.main([str(short)]) == 1
     assert rule.main([str(tmp_path / "nothing")]) == 2
+
+
+def test_round_seven_reads_finger_pulls_on_channels_the_pad_enters(rule, tmp_path, capsys):
+    groups = rule.GROUPS
+    # every group at 0.9, finger-pull doors at 0.76 over all parts and 0.88 on those the pad enters
+    run = write_run(
+        tmp_path / "run",
+        groups,
+        50,
+        lambda g, it: 0.76 if g == "finger_pull_door" else 0.9,
+    )
+    rows = [f"{it},/pad_enters_success/finger_pull_{kind},0.88" for it in range(50)
+            for kind in ("drawer", "door", "flap")]  # fmt: skip
+    with (run / "metrics.csv").open("a") as f:
+        f.write("\n".join(rows) + "\n")
+    assert rule.last_window(run)["finger_pull_door"] == pytest.approx(0.76)
+    assert rule.last_window(run, pad_enters=True)["finger_pull_door"] == pytest.approx(0.88)
+    assert rule.last_window(run, pad_enters=True)["knob_door"] == pytest.approx(0.9)
+    assert rule.main(["--mark", "0.8", str(run)]) == 1
+    assert rule.main(["--mark", str(rule.MARKS[7]), "--pad-enters", str(run)]) == 0
+    assert "adopted: yes" in capsys.readouterr().out
+    # a run that never logged the tag fails the reading
+    bare = write_run(tmp_path / "bare", groups, 50, lambda g, it: 1.0)
+    assert rule.last_window(bare, pad_enters=True)["finger_pull_flap"] is None

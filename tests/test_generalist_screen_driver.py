@@ -47,12 +47,12 @@ def test_a_group_its_kinds_teacher_missed_gets_its_own_teacher_on_the_next_seed(
             groups["finger_pull_door"] = 0.3
         keep_by_hand(tmp_path / "kept", f"distilled_s20/teacher_{kind}", groups, 600.0)
     driver.run = Recorder()
-    driver.distilled(20, dry_run=False, park=False)
+    driver.distilled("distilled", 20, 0.5, False, dry_run=False, park=False)
     retrain = driver.run.runs[-1]  # and nothing after it until it is kept
     assert retrain.name == "distilled_s20/teacher_finger_pull_door"
     assert {"env.seed=21", "asset=finger_pull", "asset.kind=door"} <= set(retrain.overrides)
     keep_by_hand(tmp_path / "kept", retrain.name, {"finger_pull_door": 0.7}, 300.0)
-    driver.distilled(20, dry_run=False, park=False)
+    driver.distilled("distilled", 20, 0.5, False, dry_run=False, park=False)
     student = driver.run.runs[-1]
     assert student.name == "distilled_s20/student"
     teachers = next(o for o in student.overrides if o.startswith("distill.teachers="))
@@ -66,7 +66,7 @@ def test_the_student_is_routed_to_each_groups_teacher(screen, tmp_path):
         groups = {f"{c}_{kind}": 0.8 for c in ("knob", "two_point", "finger_pull")}
         keep_by_hand(tmp_path / "kept", f"distilled_s20/teacher_{kind}", groups, 600.0)
     driver.run = Recorder()
-    driver.distilled(20, dry_run=False, park=False)
+    driver.distilled("distilled", 20, 0.5, False, dry_run=False, park=False)
     (student,) = [r for r in driver.run.runs if r.name.endswith("student")]
     teachers = next(o for o in student.overrides if o.startswith("distill.teachers="))
     door = tmp_path / "kept/distilled_s20/teacher_door/model_399.pt"
@@ -77,7 +77,7 @@ def test_a_pipeline_whose_budget_is_spent_trains_nothing_more(screen, tmp_path, 
     driver = screen.Screen(tmp_path / "work", tmp_path / "kept", None)
     keep_by_hand(tmp_path / "kept", "distilled_s20/teacher_drawer", {}, screen.BUDGET_SECONDS)
     driver.run = Recorder()
-    driver.distilled(20, dry_run=False, park=False)
+    driver.distilled("distilled", 20, 0.5, False, dry_run=False, park=False)
     assert driver.run.runs == []
     assert "distilled_s20: its 2 h are spent" in capsys.readouterr().out
 
@@ -131,7 +131,7 @@ def test_round_five_runs_the_default_with_each_envs_configuration_rotating(scree
 
 
 def test_round_six_rotates_and_starts_some_finger_pull_doors_ajar(screen):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("rotate_ajar",)
+    assert screen.ROUNDS[6] == ("rotate_ajar",)
     assert screen.MARKS[6] == 0.8
     overrides = screen.single_run("rotate_ajar", 20).overrides
     assert {
@@ -143,3 +143,44 @@ def test_round_six_rotates_and_starts_some_finger_pull_doors_ajar(screen):
         "agent.max_iterations=1500",
     } <= set(overrides)
     assert "agent=ppo" not in overrides
+
+
+def test_round_seven_distils_rotating_teachers_and_a_finger_pull_door_specialist(screen, tmp_path):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_rotate",)
+    assert screen.MARKS[7] == 0.8 and 7 in screen.PAD_ENTERS_ROUNDS
+    kept = tmp_path / "kept"
+    driver = screen.Screen(tmp_path / "work", kept, None)
+    for kind in ("drawer", "door", "flap"):
+        groups = {f"{c}_{kind}": 0.9 for c in ("knob", "two_point", "finger_pull")}
+        keep_by_hand(kept, f"distilled_rotate_s20/teacher_{kind}", groups, 900.0)
+    assert {"asset.rotate_every=10", "asset.kind=door", "env.seed=20", "agent=ppo"} <= set(
+        screen.teacher_run("distilled_rotate", 20, "door").overrides
+    )
+    driver.run = Recorder()
+    assert driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
+    # finger-pull doors get their specialist although the door teacher learned them
+    specialist = driver.run.runs[-1]
+    assert specialist.name == "distilled_rotate_s20/teacher_finger_pull_door"
+    recipe = {"asset=finger_pull", "asset.kind=door", "asset.rotate_every=10", "env.seed=20",
+              "agent.max_iterations=1000", "dr.switch_iteration=500"}  # fmt: skip
+    assert recipe <= set(specialist.overrides)
+    keep_by_hand(kept, specialist.name, {"finger_pull_door": 0.77}, 1800.0, iterations=1000)
+    driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
+    student = driver.run.runs[-1]
+    assert student.name == "distilled_rotate_s20/student"
+    assert "asset.rotate_every=10" in student.overrides
+    teachers = next(o for o in student.overrides if o.startswith("distill.teachers="))
+    assert f"finger_pull_door: {kept}/{specialist.name}/model_999.pt" in teachers
+    assert f"knob_door: {kept}/distilled_rotate_s20/teacher_door/model_399.pt" in teachers
+    # the student is read on channels the pad enters: 0.9 there passes, the 0.7 over all fails
+    groups = {g: 0.9 for g in GROUPS} | {"finger_pull_door": 0.7}
+    keep_by_hand(kept, student.name, groups, 600.0, iterations=200)
+    assert not driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
+    with (kept / student.name / "metrics.csv").open("a") as f:
+        f.writelines(
+            f"{it},/pad_enters_success/finger_pull_{kind},0.9\n"
+            for it in range(170, 200)
+            for kind in ("drawer", "door", "flap")
+        )
+    assert driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
+    assert driver.spent("distilled_rotate_s20") == 5100.0

@@ -10,13 +10,14 @@ alone on the machine.
 
 RESULTS is experiments/generalist/results/screen. Runs train in outputs/generalist_screen/NAME
 (resumable: the run queue, realikea/training/queue.py) and are kept in RESULTS/NAME (slim last
-checkpoint, metrics, config, wall time). A
+checkpoint, metrics, config, wall time); the candidates are in screen_candidates.py. A
 candidate's runs on one seed (its pipeline) share BUDGET_SECONDS of wall time, every stage
 counted: a run still training when its pipeline's launches reach it is stopped there and kept as
-it is. The distilled candidate trains one teacher per kind, gives a group its teacher missed its
-own teacher on the next seed (once), then distils every group's teacher into one student; the
-candidate is judged on its last run (the student). A single-run candidate whose kept run misses
-its round's mark (screen_rule.MARKS) is not run on the seeds after it.
+it is. A distilled candidate trains one teacher per kind, gives a group its own teacher where the
+candidate names one (on its seed) or its kind's teacher missed it (on the next seed, once), then
+distils every group's teacher into one student; the candidate is judged on its last run (the
+student). A candidate whose kept (last) run misses its round's mark (screen_rule.MARKS) is not
+run on the seeds after it.
 """
 
 from __future__ import annotations
@@ -27,7 +28,18 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from screen_rule import LEARNED, MARKS, last_window, passes
+from screen_candidates import (
+    CANDIDATES,
+    COMMON,
+    DISTILLED,
+    ROUND_1,
+    ROUNDS,
+    SINGLE_RUN,
+    STUDENT_ITERATIONS,
+    TEACHER_ITERATIONS,
+    TEACHER_SWITCH,
+)
+from screen_rule import LEARNED, MARKS, PAD_ENTERS_ROUNDS, last_window, passes
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, group_name
 from realikea.eval.sweep import checkpoints
@@ -40,62 +52,6 @@ PARKED = HERE / "results/screen_parked"
 WORK = WORKSPACE / "outputs/generalist_screen"
 SEEDS = (20, 21)
 BUDGET_SECONDS = 2 * 3600
-COMMON = ("logger=none",)
-# round 1 ran on python train.py's defaults of its day: the library's draw, CoACD, normal and the
-# single-task agent (the library draw's default became agent=multitask, round 1's adopted
-# group_ppo, after it); later rounds run on the defaults round 1 left
-ROUND_1 = ("agent=ppo",)
-AJAR_FP_DOORS = (
-    "+task.ajar_share=0.3",
-    "+task.ajar_groups=[finger_pull_door]",
-    "+task.ajar_range=[0.4,1.0]",
-)
-SINGLE_RUN = {  # name -> (overrides, iterations)
-    "group_ppo": (
-        (
-            *ROUND_1,
-            "+agent.group_advantages=true",
-            "agent.algorithm.schedule=fixed",
-            "agent.algorithm.learning_rate=3e-4",
-            "agent.num_steps_per_env=48",
-        ),
-        1500,
-    ),
-    "pregrasp": (
-        (
-            *ROUND_1,
-            "+task.pregrasp_share=0.3",
-            "+task.pregrasp_groups=[knob_door,two_point_door,finger_pull_door]",
-        ),
-        1500,
-    ),
-    "fp_pregrasp": (
-        ("+task.pregrasp_share=0.5", "+task.pregrasp_groups=[finger_pull_door]"),
-        1500,
-    ),
-    # the opening paid up to 1.25 x the success threshold (realikea/rewards/gated.py)
-    "open_margin": (("task.reward.open_target=1.25",), 1500),
-    # open jaws paid only before the episode's first grasp (realikea/rewards/gated.py)
-    "hold_grasp": (("task.reward.reopen_bonus=false",), 1500),
-    # every 10 iterations each env takes its group's next configuration
-    # (realikea/training/rotating_draw.py): a group trains on all of its configurations
-    "rotate": (("asset.rotate_every=10",), 1500),
-    # rotate's draw, and 0.3 of the finger-pull door episodes start with the door ajar at 0.4-1.0
-    # of the success mark, the hand at home (realikea/tasks/start_state.py)
-    "rotate_ajar": (("asset.rotate_every=10", *AJAR_FP_DOORS), 1500),
-}
-# teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
-# student on randomized poses throughout (its teachers have learned them)
-TEACHER_ITERATIONS, TEACHER_SWITCH, STUDENT_ITERATIONS = 400, 200, 200
-ROUNDS = {
-    1: ("group_ppo", "pregrasp", "distilled"),
-    2: ("fp_pregrasp",),
-    3: ("open_margin",),
-    4: ("hold_grasp",),
-    5: ("rotate",),
-    6: ("rotate_ajar",),
-}
-CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
 
 
 def run_name(candidate: str, seed: int, stage: str = "") -> str:
@@ -111,26 +67,30 @@ def single_run(candidate: str, seed: int) -> QueuedRun:
     )
 
 
-def teacher_run(seed: int, kind: str, category: str = "") -> QueuedRun:
-    """The teacher of one kind's groups, or (`category`) the own teacher of a group its kind's
-    teacher missed, trained on the next seed."""
-    stage = f"teacher_{group_name(category, kind) if category else kind}"
+def teacher_run(candidate: str, seed: int, kind: str, category: str = "") -> QueuedRun:
+    """The teacher of one kind's groups, or (`category`) a group's own teacher: as the
+    candidate names it (`DISTILLED`), else by the teacher rule, trained on the next seed."""
+    extra, own = DISTILLED[candidate]
+    group = group_name(category, kind) if category else ""
+    iterations, switch = own.get(group, (TEACHER_ITERATIONS, TEACHER_SWITCH))
+    # the teacher rule's own teacher trains on the next seed (its kind's missed on this one)
+    trained_on = seed + 1 if category and group not in own else seed
     scope = (f"asset={category}",) if category else ()
     return QueuedRun(
-        run_name("distilled", seed, stage),
-        (*COMMON, *ROUND_1, *scope, f"asset.kind={kind}",
-         f"env.seed={seed + 1 if category else seed}",
-         f"agent.max_iterations={TEACHER_ITERATIONS}", f"dr.switch_iteration={TEACHER_SWITCH}"),
-        TEACHER_ITERATIONS,
+        run_name(candidate, seed, f"teacher_{group or kind}"),
+        (*COMMON, *ROUND_1, *extra, *scope, f"asset.kind={kind}", f"env.seed={trained_on}",
+         f"agent.max_iterations={iterations}", f"dr.switch_iteration={switch}"),
+        iterations,
     )  # fmt: skip
 
 
-def student_run(seed: int, teachers: dict[str, Path]) -> QueuedRun:
+def student_run(candidate: str, seed: int, teachers: dict[str, Path]) -> QueuedRun:
     listed = ", ".join(f"{group}: {path}" for group, path in teachers.items())
     return QueuedRun(
-        run_name("distilled", seed, "student"),
-        (*COMMON, *ROUND_1, f"distill.teachers={{{listed}}}", f"env.seed={seed}",
-         f"agent.max_iterations={STUDENT_ITERATIONS}", "dr.switch_iteration=0"),
+        run_name(candidate, seed, "student"),
+        (*COMMON, *ROUND_1, *DISTILLED[candidate][0], f"distill.teachers={{{listed}}}",
+         f"env.seed={seed}", f"agent.max_iterations={STUDENT_ITERATIONS}",
+         "dr.switch_iteration=0"),
         STUDENT_ITERATIONS,
     )  # fmt: skip
 
@@ -199,28 +159,38 @@ class Screen:
             return False
         return True
 
-    def distilled(self, seed: int, dry_run: bool, park: bool) -> None:
-        """Teachers per kind, a group's own teacher where its kind's missed it, the student
-        (each stage once the one before is kept)."""
-        kinds = {kind: teacher_run(seed, kind) for kind in BASE_KINDS}
+    def distilled(self, candidate: str, seed: int, mark: float, reading: bool, dry_run: bool,
+                  park: bool) -> bool:  # fmt: skip
+        """Teachers per kind, each group's own teacher where the candidate names one or its
+        kind's teacher missed it, then the student (each stage once the one before is kept);
+        whether its seeds after this one still run (not once the student misses `mark` in some
+        group, read as `screen_rule.last_window(..., reading)`)."""
+        kinds = {kind: teacher_run(candidate, seed, kind) for kind in BASE_KINDS}
         for run in kinds.values():
             if not self.stage([run], dry_run, park) and not (dry_run or park):
-                return
+                return True
         if not all(self.queue.kept(r) for r in kinds.values()):
-            return  # shown or parked
-        teachers = {}
+            return True  # shown or parked
+        own, teachers = DISTILLED[candidate][1], {}
         for kind, run in kinds.items():
             values = last_window(self.kept_dir / run.name)
             for category in CATEGORIES:
                 group = group_name(category, kind)
-                teachers[group] = run if (values[group] or 0.0) >= LEARNED else None
-        for group in [g for g, run in teachers.items() if run is None]:
-            category, kind = group.rsplit("_", 1)
-            teachers[group] = teacher_run(seed, kind, category)
-            if not self.stage([teachers[group]], dry_run, park):
-                return
+                if group in own or (values[group] or 0.0) < LEARNED:
+                    teachers[group] = teacher_run(candidate, seed, kind, category)
+                    if not self.stage([teachers[group]], dry_run, park):
+                        return True
+                else:
+                    teachers[group] = run
         paths = {g: checkpoints(self.kept_dir / r.name)[-1][1] for g, r in teachers.items()}
-        self.stage([student_run(seed, paths)], dry_run, park)
+        student = student_run(candidate, seed, paths)
+        self.stage([student], dry_run, park)
+        if self.queue.kept(student) and not passes(
+            last_window(self.kept_dir / student.name, reading), mark
+        ):
+            print(f"{student.name} misses {mark:g} in some group: {candidate} stops at this seed")
+            return False
+        return True
 
 
 def main(argv: list[str]) -> int:
@@ -239,9 +209,13 @@ def main(argv: list[str]) -> int:
     with nullcontext() if args.dry_run or args.park else screen.queue.driving():
         for candidate in args.candidates or ROUNDS[args.round]:
             for seed in args.seeds:
-                if candidate == "distilled":
-                    screen.distilled(seed, args.dry_run, args.park)
-                elif not screen.single(candidate, seed, MARKS[args.round], args.dry_run, args.park):
+                mark, how = MARKS[args.round], (args.dry_run, args.park)
+                if candidate in DISTILLED:
+                    reading = args.round in PAD_ENTERS_ROUNDS
+                    going = screen.distilled(candidate, seed, mark, reading, *how)
+                else:
+                    going = screen.single(candidate, seed, mark, *how)
+                if not going:
                     break
     return 0
 

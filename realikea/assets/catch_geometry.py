@@ -66,6 +66,11 @@ class LipCatch:
     back: float  # z of the channel's back wall (the back plate's outer face, or the front)
     top: float  # y of the channel's roof underside (its highest point)
 
+    @property
+    def channel(self) -> float:
+        """The room behind the lip along the pull (m): what a fingertip pad must enter."""
+        return self.edge_z - self.back
+
 
 @dataclass(frozen=True)
 class NoCatch:

@@ -139,7 +139,9 @@ class RslRlVecEnv(VecEnv):
         episodes of that group: a group stuck before the pull shows as a low stage); and the
         pool's counters. Outcomes and group values count the episodes that started at home, the
         task as evaluated; those a start-state curriculum began elsewhere show as
-        `/pregrasp_success/<category>_<kind>` or `/ajar_success/<category>_<kind>`."""
+        `/pregrasp_success/<category>_<kind>` or `/ajar_success/<category>_<kind>`. A finger-pull
+        group's success also shows over its episodes on parts whose channel the pad enters
+        (`/pad_enters_success/finger_pull_<kind>`, `realikea.tasks.open_task.pad_enters`)."""
         log: dict[str, float | torch.Tensor] = {}
         if episodes:
             names = [e["termination"] for e in episodes]
@@ -177,6 +179,10 @@ class RslRlVecEnv(VecEnv):
                     )
                     if "stage" in e:
                         groups.setdefault(f"/group_stage/{group}", []).append(float(e["stage"]))
+                    if e["category"] == "finger_pull" and e.get("pad_enters"):
+                        groups.setdefault(f"/pad_enters_success/{group}", []).append(
+                            float(e["outcome"] == "success")
+                        )
             log.update({name: torch.tensor(values) for name, values in sorted(groups.items())})
         for name, value in self.pool.counters.items():
             log[f"/pool/{name}"] = float(value)

@@ -15,10 +15,11 @@ import numpy as np
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog, group_name
+from realikea.assets.catch_geometry import LipCatch, catch_features_at
 from realikea.errors import RealIkeaError
 from realikea.rewards import StepValues, reward_from_config
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
-from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, GripperModel
+from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, PAD_HALF, GripperModel
 from realikea.sim.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -96,7 +97,7 @@ class OpenTask:
     # what an episode's record in the env pool keeps of the final info
     episode_keys = (
         "outcome", "termination", "opening", "stage", "reward_terms", "category", "kind",
-        "pregrasp", "ajar",
+        "pregrasp", "ajar", "pad_enters",
         *SUMMARY_KEYS,
         *FAILURE_KEYS,
     )  # fmt: skip
@@ -129,6 +130,7 @@ class OpenTask:
         self._nominal_handle = np.zeros(3)
         self._t1, self._t2 = self.o1, self.o2
         self._mesh = str(Path(config_mjcf).parent / "meshes" / "visual.obj")
+        self.pad_enters = pad_enters(self._mesh, self.part.category)
         self._monitor_contacts(cfg, parts, panel)
         self._step_forces, self._step_samples = np.zeros(len(SAMPLE_FORCES)), 0
         self._excess = 0.0  # the last action's squared excess beyond the clip to [-1, 1]
@@ -461,6 +463,7 @@ class OpenTask:
             info["termination"] = ended or TIMEOUT
             info["reward_terms"] = dict(s.term_sums)
             info["category"], info["kind"] = self.part.category, self.base.kind
+            info["pad_enters"] = self.pad_enters
             if s.at_pregrasp:
                 info["pregrasp"] = True
             if s.ajar:
@@ -481,6 +484,16 @@ class OpenTask:
         ok = self.apply_action(action)
         self.simulate()
         return self.evaluate(ok)
+
+
+def pad_enters(mesh: str, category: str) -> bool:
+    """Whether the fingertip pad (`PAD_HALF`: 9 mm thick) fits behind the part's catch: on a
+    finger pull, a channel behind the lip at least that wide (`LipCatch.channel`); the other
+    categories' catches are not measured, and count as fitting."""
+    if category != "finger_pull":
+        return True
+    found = catch_features_at(mesh, category)
+    return isinstance(found, LipCatch) and found.channel >= 2 * PAD_HALF[1]
 
 
 def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float, turned: bool = False) -> float:

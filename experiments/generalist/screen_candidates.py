@@ -1,0 +1,70 @@
+"""The generalist screen's candidates (README.md, "One policy on every seed" and its later
+rounds): each single-run candidate's overrides and iterations, each distilled candidate's stages,
+and the rounds that registered them. `screen.py` trains them.
+"""
+
+COMMON = ("logger=none",)
+# round 1 ran on python train.py's defaults of its day: the library's draw, CoACD, normal and the
+# single-task agent (the library draw's default became agent=multitask, round 1's adopted
+# group_ppo, after it); later rounds run on the defaults round 1 left
+ROUND_1 = ("agent=ppo",)
+AJAR_FP_DOORS = (
+    "+task.ajar_share=0.3",
+    "+task.ajar_groups=[finger_pull_door]",
+    "+task.ajar_range=[0.4,1.0]",
+)
+SINGLE_RUN = {  # name -> (overrides, iterations)
+    "group_ppo": (
+        (
+            *ROUND_1,
+            "+agent.group_advantages=true",
+            "agent.algorithm.schedule=fixed",
+            "agent.algorithm.learning_rate=3e-4",
+            "agent.num_steps_per_env=48",
+        ),
+        1500,
+    ),
+    "pregrasp": (
+        (
+            *ROUND_1,
+            "+task.pregrasp_share=0.3",
+            "+task.pregrasp_groups=[knob_door,two_point_door,finger_pull_door]",
+        ),
+        1500,
+    ),
+    "fp_pregrasp": (
+        ("+task.pregrasp_share=0.5", "+task.pregrasp_groups=[finger_pull_door]"),
+        1500,
+    ),
+    # the opening paid up to 1.25 x the success threshold (realikea/rewards/gated.py)
+    "open_margin": (("task.reward.open_target=1.25",), 1500),
+    # open jaws paid only before the episode's first grasp (realikea/rewards/gated.py)
+    "hold_grasp": (("task.reward.reopen_bonus=false",), 1500),
+    # every 10 iterations each env takes its group's next configuration
+    # (realikea/training/rotating_draw.py): a group trains on all of its configurations
+    "rotate": (("asset.rotate_every=10",), 1500),
+    # rotate's draw, and 0.3 of the finger-pull door episodes start with the door ajar at 0.4-1.0
+    # of the success mark, the hand at home (realikea/tasks/start_state.py)
+    "rotate_ajar": (("asset.rotate_every=10", *AJAR_FP_DOORS), 1500),
+}
+# teachers: fixed poses to 200, then randomized (as the door specialists: 300 of 600); the
+# student on randomized poses throughout (its teachers have learned them)
+TEACHER_ITERATIONS, TEACHER_SWITCH, STUDENT_ITERATIONS = 400, 200, 200
+DISTILLED = {  # name -> (overrides every stage adds, {group: (iterations, fixed poses until)})
+    # a group's own teacher from the start, on the candidate's seed (`own`); any other group
+    # gets one only by the teacher rule (its kind's teacher below LEARNED), on the next seed
+    "distilled": ((), {}),
+    # every stage takes turns over its groups' configurations; finger-pull doors' teacher is the
+    # specialist `fp_doors_rotate` (train_gated.py) of the README's check before round 7
+    "distilled_rotate": (("asset.rotate_every=10",), {"finger_pull_door": (1000, 500)}),
+}
+ROUNDS = {
+    1: ("group_ppo", "pregrasp", "distilled"),
+    2: ("fp_pregrasp",),
+    3: ("open_margin",),
+    4: ("hold_grasp",),
+    5: ("rotate",),
+    6: ("rotate_ajar",),
+    7: ("distilled_rotate",),
+}
+CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
