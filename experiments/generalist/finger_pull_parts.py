@@ -45,7 +45,7 @@ def room(part: str, library: Path) -> tuple[float, float] | None:
     found = catch_features_at(str(mesh), "finger_pull")
     if not isinstance(found, LipCatch):
         return None
-    return found.edge_z - found.back, found.top - found.edge_y
+    return found.channel, found.top - found.edge_y
 
 
 def mm(value: float | None) -> str:
