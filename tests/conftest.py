@@ -1,6 +1,6 @@
 """Shared fixtures: the catalog, default workflow settings, a small built library, its export
-sample and their release, the experiments' scripts as modules, and the config train.py
-composes."""
+sample and their release, the experiments' scripts as modules, the config train.py composes,
+and the training log of hand-made episodes."""
 
 from __future__ import annotations
 
@@ -18,6 +18,19 @@ from realikea.files import WORKSPACE, repo_path
 from realikea.sources import SOURCES
 
 SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
+
+
+@pytest.fixture(scope="session")
+def episode_log():
+    """`episode_log(episodes)`: what the rsl-rl env logs for these finished episodes' records
+    (`RslRlVecEnv._log`, over a stand-in pool)."""
+    from types import SimpleNamespace
+
+    from realikea.pool.rsl_rl_env import RslRlVecEnv
+
+    pool = SimpleNamespace(num_envs=3, num_actions=5, obs_size=4, horizon=10, iteration=0)
+    pool.counters = {}
+    return RslRlVecEnv(pool, load_config(), 8)._log
 
 
 @pytest.fixture(scope="session")

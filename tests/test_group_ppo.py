@@ -83,14 +83,9 @@ def test_the_env_numbers_the_draws_groups_and_follows_a_draw_that_moves_envs():
     assert RslRlVecEnv(pool, load_config(), 8).group_index().tolist() == [0, 0, 0]
 
 
-def test_the_log_gives_each_groups_success_and_mean_end_stage():
-    from realikea.pool.rsl_rl_env import RslRlVecEnv
-
-    pool = SimpleNamespace(num_envs=3, num_actions=2, obs_size=4, horizon=10, iteration=0)
-    pool.counters = {}
-    env = RslRlVecEnv(pool, load_config(), 8)
+def test_the_log_gives_each_groups_success_and_mean_end_stage(episode_log):
     episode = {"termination": "timeout", "opening": 0.0, "category": "knob"}
-    log = env._log(
+    log = episode_log(
         [
             {**episode, "kind": "door", "outcome": "success", "stage": 4},
             {**episode, "kind": "door", "outcome": "fail", "stage": 2},

@@ -4,14 +4,11 @@ success on those parts apart (`/pad_enters_success/<group>`)."""
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
-from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.open_task import OpenTask
 
 
@@ -45,12 +42,9 @@ def test_an_episodes_end_says_whether_the_pad_fits(tmp_path):
     assert info["pad_enters"] is False
 
 
-def test_training_logs_show_finger_pull_success_on_parts_the_pad_enters():
-    pool = SimpleNamespace(num_envs=2, num_actions=5, obs_size=4, horizon=10, iteration=0)
-    pool.counters = {}
-    env = RslRlVecEnv(pool, load_config(), 8)
+def test_training_logs_show_finger_pull_success_on_parts_the_pad_enters(episode_log):
     door = {"termination": "timeout", "opening": 0.0, "category": "finger_pull", "kind": "door"}
-    log = env._log(
+    log = episode_log(
         [
             {**door, "outcome": "success", "stage": 4, "pad_enters": True},
             {**door, "outcome": "fail", "stage": 1, "pad_enters": True},

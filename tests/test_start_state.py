@@ -5,8 +5,6 @@ evaluations."""
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
@@ -14,7 +12,6 @@ from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.setup import effective_config
-from realikea.pool.rsl_rl_env import RslRlVecEnv
 from realikea.tasks.open_task import OpenTask
 from realikea.tasks.start_state import CURRICULUM_KEYS, AjarStart, PregraspStart
 from realikea.training.train import check_inputs
@@ -132,12 +129,9 @@ def run_out(task: OpenTask) -> dict:
             return result.info
 
 
-def test_training_logs_count_only_home_starts_and_show_curriculum_starts_apart():
-    pool = SimpleNamespace(num_envs=2, num_actions=5, obs_size=4, horizon=10, iteration=0)
-    pool.counters = {}
-    env = RslRlVecEnv(pool, load_config(), 8)
+def test_training_logs_count_only_home_starts_and_show_curriculum_starts_apart(episode_log):
     episode = {"termination": "timeout", "opening": 0.0, "category": "knob", "kind": "door"}
-    log = env._log(
+    log = episode_log(
         [
             {**episode, "outcome": "fail", "stage": 1},
             {**episode, "outcome": "success", "stage": 4, "pregrasp": True},
