@@ -27,7 +27,7 @@ PITCHES = (0.25, 0.56, 0.8, 1.0)  # rad: the oracle's lip pitch, the reach limit
 
 def bearing(f: LipCatch, pitch: float, clearance: float) -> float:
     """m the pad's tip can rise above the lip's bottom edge at `pitch` (0 if it cannot)."""
-    run = f.edge_z - f.back - clearance - PAD_THICKNESS * math.sin(pitch)
+    run = f.channel - clearance - PAD_THICKNESS * math.sin(pitch)
     return max(0.0, min(math.tan(pitch) * run, f.top - f.edge_y - clearance))
 
 
@@ -55,7 +55,7 @@ def main() -> None:
             b = bearing(f, p, clearance)
             cells.append(f"{b * 1e3:.1f}" + ("" if b >= MIN_ROOM else " x"))
         print(
-            f"| {part} | {(f.edge_z - f.back) * 1e3:.1f} | {(f.top - f.edge_y) * 1e3:.1f} | "
+            f"| {part} | {f.channel * 1e3:.1f} | {(f.top - f.edge_y) * 1e3:.1f} | "
             + " | ".join(cells)
             + " |"
         )

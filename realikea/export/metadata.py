@@ -131,7 +131,7 @@ def fingertip_clearance(visual: Path, category: str) -> dict:
         feature, clearance = "gap behind the bar", found.proj - found.depth
     else:
         assert isinstance(found, LipCatch)
-        feature, clearance = "channel behind the lip", found.edge_z - found.back
+        feature, clearance = "channel behind the lip", found.channel
     return {
         "feature": feature,
         "clearance": clearance,
