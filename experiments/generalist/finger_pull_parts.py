@@ -26,8 +26,8 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text, repo_path, shown_path
 from realikea.markdown import table
-from realikea.policies.hook_oracle import PAD_THICKNESS
 from realikea.sim.resistance import MODES
+from realikea.sim.robot import PAD_THICKNESS
 
 
 def episode_files(run: Path, kind: str, validation: bool) -> list[tuple[str, Path]]:

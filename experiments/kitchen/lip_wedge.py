@@ -20,7 +20,8 @@ from realikea.assets.catalog import Catalog
 from realikea.assets.catch_geometry import MIN_ROOM, LipCatch, catch_features_at
 from realikea.config import load_config
 from realikea.files import repo_path
-from realikea.policies.hook_oracle import PAD_THICKNESS, OracleParams
+from realikea.policies.hook_oracle import OracleParams
+from realikea.sim.robot import PAD_THICKNESS
 
 PITCHES = (0.25, 0.56, 0.8, 1.0)  # rad: the oracle's lip pitch, the reach limit, steeper
 

@@ -18,7 +18,7 @@ from realikea.assets.catalog import Configuration
 from realikea.assets.catch_geometry import BarCatch, LipCatch, NoCatch, catch_features_at
 from realikea.export.model import Articulation, quat_wxyz
 from realikea.sim.resistance import Resistance, handle_resistance, lever_arm
-from realikea.sim.robot import PAD_HALF
+from realikea.sim.robot import PAD_THICKNESS
 
 PART_LINK = "part"  # the body the part is mounted as (workflow step 5)
 UNITS = "m, kg, s, rad unless a field's own `units` says otherwise"
@@ -26,7 +26,7 @@ FRAME = (
     "cabinet frame: origin at the bottom centre of the carcass's front plane, +x out of the "
     "front, +y to the viewer's right, +z up; front closed"
 )
-FINGERTIP = 2 * PAD_HALF[1]  # m: the Franka Hand's pad, 9 mm thick across the jaw gap
+FINGERTIP = PAD_THICKNESS  # m: the Franka Hand's pad, 9 mm thick across the jaw gap
 RESISTANCE_UNITS = {
     "slide": {"damping": "N s/m", "frictionloss": "N"},
     "hinge": {"damping": "N m s/rad", "frictionloss": "N m"},

@@ -54,11 +54,11 @@ from realikea.policies.scripted import (
     held_path,
 )
 from realikea.sim.ik import tcp_rotation
+from realikea.sim.robot import PAD_THICKNESS
 from realikea.tasks.facts import SceneFacts
 
 # fingertip pad (realikea/sim/robot.py): the TCP is the pad centre
 PAD_HALF_LENGTH = 0.009  # m along the approach
-PAD_THICKNESS = 0.009  # m across the jaw gap
 BODY_STEP = 0.008  # m the finger body steps back from the pad's contact plane
 
 

@@ -117,6 +117,7 @@ TCP_Z = 0.1034
 # Above it the finger body widens to 14 mm and steps back 8 mm from the contact plane, as the
 # real finger's inner face recedes above the pad.
 PAD_HALF = (0.009, 0.0045, 0.009)
+PAD_THICKNESS = 2 * PAD_HALF[1]  # m across the jaw gap: what a channel must admit
 PAD_CENTRE = (0.0, 0.0045, TCP_Z - FINGER_MOUNT_Z)
 FINGER_BODY_HALF = (0.009, 0.007, 0.018)
 FINGER_BODY_CENTRE = (0.0, 0.015, 0.018)

@@ -19,7 +19,7 @@ from realikea.assets.catch_geometry import LipCatch, catch_features_at
 from realikea.errors import RealIkeaError
 from realikea.rewards import StepValues, reward_from_config
 from realikea.sim.ik import IKController, rolled_nominal, tcp_pitch
-from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, PAD_HALF, GripperModel
+from realikea.sim.robot import FINGER_BODIES, HAND_BODY, PAD_GEOMS, PAD_THICKNESS, GripperModel
 from realikea.sim.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -487,13 +487,13 @@ class OpenTask:
 
 
 def pad_enters(mesh: str, category: str) -> bool:
-    """Whether the fingertip pad (`PAD_HALF`: 9 mm thick) fits behind the part's catch: on a
+    """Whether the fingertip pad (`PAD_THICKNESS`: 9 mm) fits behind the part's catch: on a
     finger pull, a channel behind the lip at least that wide (`LipCatch.channel`); the other
     categories' catches are not measured, and count as fitting."""
     if category != "finger_pull":
         return True
     found = catch_features_at(mesh, category)
-    return isinstance(found, LipCatch) and found.channel >= 2 * PAD_HALF[1]
+    return isinstance(found, LipCatch) and found.channel >= PAD_THICKNESS
 
 
 def _hand_roll(model: mujoco.MjModel, mount_roll_deg: float, turned: bool = False) -> float:
