@@ -176,11 +176,11 @@ def test_round_seven_distils_rotating_teachers_and_a_finger_pull_door_specialist
     groups = {g: 0.9 for g in GROUPS} | {"finger_pull_door": 0.7}
     keep_by_hand(kept, student.name, groups, 600.0, iterations=200)
     assert not driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
-    with (kept / student.name / "metrics.csv").open("a") as f:
-        f.writelines(
-            f"{it},/pad_enters_success/finger_pull_{kind},0.9\n"
-            for it in range(170, 200)
-            for kind in ("drawer", "door", "flap")
-        )
+    metrics = kept / student.name / "metrics.csv"
+    header, *rows = metrics.read_text().splitlines()
+    rows += [f"{it},/pad_enters_success/finger_pull_{kind},0.9" for it in range(170, 200)
+             for kind in ("drawer", "door", "flap")]  # fmt: skip
+    rows.sort(key=lambda row: int(row.split(",")[0]))  # one launch's order
+    metrics.write_text("\n".join([header, *rows]) + "\n")
     assert driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
     assert driver.spent("distilled_rotate_s20") == 5100.0

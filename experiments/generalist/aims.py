@@ -25,7 +25,6 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from train_gated import RECIPES as GATED_RECIPES
 from train_gated import RESULTS, kept_dir
 
 from realikea.assets.catalog import CATEGORIES
@@ -34,11 +33,13 @@ from realikea.eval.library_grid import KINDS, evaluate_grid
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
 from realikea.reports.learning_curve import plot_learning_curve
+from realikea.training.pipeline import final_iterations, pipelined
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 PARKED = RESULTS / "aims_parked"
 WORK = WORKSPACE / "outputs/generalist_aims"
-RECIPES = {name: tuple(GATED_RECIPES[name]) for name in ("default", "hull_high")}
+# python train.py and the design card's command, with whatever defaults they have when they run
+RECIPES = {"default": (), "hull_high": ("collision=hull", "resistance=high")}
 SEEDS = {"default": (200, 201, 202), "hull_high": (210, 211, 212)}
 # evaluations of a kept run: results folder suffix -> (resistance modes, extra eval overrides)
 EVALUATIONS = {
@@ -51,15 +52,17 @@ GROUPS = tuple((kind, category) for kind in KINDS for category in CATEGORIES)  #
 
 
 def aim_run(recipe: str, seed: int) -> QueuedRun:
-    """The recipe's command on one seed, as long as its composed config says."""
+    """The recipe's command on one seed, as long as its composed config says (in stages if it
+    trains a pipeline)."""
     overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none")
-    iterations = int(load_config(overrides).agent.max_iterations)
-    return QueuedRun(f"{recipe}_s{seed}", overrides, iterations)
+    cfg = load_config(overrides)
+    return QueuedRun(f"{recipe}_s{seed}", overrides, final_iterations(cfg), pipelined(cfg))
 
 
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
-    """Keep the run (`keep_run`) and plot its per-group learning curve beside it."""
-    kept = keep_run(WORK / run.name, kept_dir(run), seconds)
+    """Keep the run (`keep_run`, with its stages) and plot its per-group learning curve beside
+    it."""
+    kept = keep_run(WORK / run.name, kept_dir(run), seconds, staged=run.staged)
     plot_learning_curve(kept)
     return kept
 

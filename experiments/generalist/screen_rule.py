@@ -1,18 +1,18 @@
 """The generalist screen's adoption rule, applied to a candidate's runs (written before them):
 adopt a candidate only if, on every seed run, every category x kind group's training success over
-the run's last full WINDOW-iteration window is at least the round's mark (MARKS: LEARNED in round
-1, 0.8 in rounds 2 to 7, README.md).
+the run's last full 25-iteration window is at least the round's mark (MARKS: LEARNED in round 1,
+0.8 in rounds 2 to 7, README.md).
 
     python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]              # round 1
     python experiments/generalist/screen_rule.py --mark 0.8 RUN_DIR [RUN_DIR ...]   # rounds 2-6
     python experiments/generalist/screen_rule.py --mark 0.8 --pad-enters RUN_DIR ... # round 7
 
-A run's last full window is its last WINDOW iterations (iterations N - WINDOW .. N - 1 of a run
-that logged N); a group's value is the mean of its `/success/<category>_<kind>` entries there (an
+A run's last full window is its last 25 iterations (iterations N - 25 .. N - 1 of a run that
+logged N); a group's value is the mean of its `/success/<category>_<kind>` entries there (an
 entry is that iteration's share of the group's finished episodes). A group with no entry in the
-window, or a run shorter than the window, fails. With `--pad-enters` (round 7) a finger-pull
-group is read on the episodes whose part's channel the pad enters
-(`/pad_enters_success/finger_pull_<kind>`). Prints a row per run and the verdict; exit 0
+window, or a run shorter than the window, fails (`realikea.training.metrics.last_window`). With
+`--pad-enters` (round 7) a finger-pull group is read on the episodes whose part's channel the pad
+enters (`/pad_enters_success/finger_pull_<kind>`). Prints a row per run and the verdict; exit 0
 when the candidate is adopted, 1 when not, 2 on bad input.
 """
 
@@ -22,38 +22,13 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from realikea.assets.catalog import GROUPS
-from realikea.training.metrics import read_metrics
+from realikea.training.metrics import last_window
 
-WINDOW, LEARNED = 25, 0.5
+LEARNED = 0.5
 # each screen round's mark: every group's least training success
 MARKS = {1: LEARNED, 2: 0.8, 3: 0.8, 4: 0.8, 5: 0.8, 6: 0.8, 7: 0.8}
-PAD_ENTERS_ROUNDS = {7}  # rounds that read finger pulls on channels the pad enters (`tag`)
-
-
-def tag(group: str, pad_enters: bool) -> str:
-    """The metric a group is read on: its training success, or (`pad_enters`, finger-pull
-    groups) its success on parts whose channel the pad enters."""
-    if pad_enters and group.startswith("finger_pull_"):
-        return f"/pad_enters_success/{group}"
-    return f"/success/{group}"
-
-
-def last_window(run: Path, pad_enters: bool = False) -> dict[str, float | None]:
-    """Each group's mean training success over the run's last full WINDOW iterations (None:
-    no entry there, or the run is shorter than the window); `pad_enters`: see `tag`."""
-    metrics = read_metrics(run)
-    # rsl-rl's `.../time` tags are stepped in seconds, every other tag in iterations
-    logged = [its for tag, (its, _) in metrics.items() if len(its) and not tag.endswith("/time")]
-    last = max(int(np.max(its)) for its in logged) if logged else -1
-    out: dict[str, float | None] = {}
-    for group in GROUPS:
-        its, values = (np.asarray(x) for x in metrics.get(tag(group, pad_enters), ([], [])))
-        chosen = values[its >= last - WINDOW + 1] if last + 1 >= WINDOW else values[:0]
-        out[group] = float(chosen.mean()) if chosen.size else None
-    return out
+PAD_ENTERS_ROUNDS = {7}  # rounds that read finger pulls on channels the pad enters
 
 
 def passes(values: dict[str, float | None], mark: float = LEARNED) -> bool:

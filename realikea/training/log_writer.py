@@ -40,7 +40,7 @@ def mirrored_tag(tag: str) -> str:
 
 class RealIkeaLogWriter(LogWriter):
     """Writes (iteration, tag, value) rows; flushes at every iteration. With `iterations` (this
-    launch's), also shows a progress bar on stderr."""
+    launch's), also shows a progress bar on stderr, headed by `description` if given."""
 
     def __init__(
         self,
@@ -48,6 +48,7 @@ class RealIkeaLogWriter(LogWriter):
         backend: str = "none",
         project_name: str = "real-ikea",
         iterations: int | None = None,
+        description: str | None = None,
     ):
         if backend not in BACKENDS:
             raise ValueError(f"logger backend {backend!r}: use one of {', '.join(BACKENDS)}")
@@ -60,7 +61,11 @@ class RealIkeaLogWriter(LogWriter):
         self._last_step = None
         self._wandb_row: dict[str, float] = {}  # the iteration's scalars, sent when it ends
         self._wandb_step = None
-        self._bar = tqdm(total=iterations, unit="it", dynamic_ncols=True) if iterations else None
+        self._bar = (
+            tqdm(total=iterations, desc=description, unit="it", dynamic_ncols=True)
+            if iterations
+            else None
+        )
         self._bar_values: dict[str, float] = {}
         self._bar_iteration = None  # the iteration the bar's values are of
         if backend == "wandb":

@@ -1,5 +1,6 @@
 """The Hydra entry point of training, shared by `python train.py ...` and `realikea train ...`:
-train PPO on the opening task in the run's Hydra directory, then optionally evaluate it."""
+train PPO on the opening task (or a pipeline of stages: realikea/training/pipeline.py) in the
+run's Hydra directory, then optionally evaluate it."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from omegaconf import DictConfig
 from realikea.eval.runs import check_eval_spec, evaluate_run
 from realikea.files import CONF_DIR
 from realikea.rewards import store_configs
+from realikea.training.pipeline import pipelined, train_pipeline
 from realikea.training.preflight import user_errors
 from realikea.training.train import train
 
@@ -33,7 +35,9 @@ def _train_and_evaluate(cfg: DictConfig) -> None:
     if cfg.train.get("eval_after"):
         check_eval_spec(cfg.train.eval_after, overrides)  # fail now, not after training
     begin = time.perf_counter()
-    checkpoint = train(cfg, hydra_cfg.runtime.output_dir)
+    run_dir = hydra_cfg.runtime.output_dir
+    staged = pipelined(cfg)
+    checkpoint = train_pipeline(cfg, run_dir, overrides) if staged else train(cfg, run_dir)
     print(f"final checkpoint: {checkpoint}")
     if cfg.train.get("eval_after"):
         seconds = time.perf_counter() - begin

@@ -1,5 +1,6 @@
 """A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag,
-the rows of several launches of one run joined, and a running mean for curves."""
+the rows of several launches of one run joined, a running mean for curves, and each category x
+kind group's training success over the run's last full window."""
 
 from __future__ import annotations
 
@@ -10,12 +11,16 @@ from pathlib import Path
 
 import numpy as np
 
+from realikea.assets.catalog import GROUPS
+
+WINDOW = 25  # iterations of the last full window a group's training success is read over
+
 
 def read_metrics(run_dir: Path) -> dict[str, tuple[list[int], list[float]]]:
-    """tag -> (iterations, values)."""
+    """tag -> (iterations, values), a resumed run's launches joined (`join_launches`)."""
     series: dict[str, tuple[list[int], list[float]]] = defaultdict(lambda: ([], []))
     with (run_dir / "metrics.csv").open() as f:
-        for row in csv.DictReader(f):
+        for row in csv.DictReader(join_launches(f.read().splitlines())):
             its, values = series[row["tag"]]
             its.append(int(row["iteration"]))
             values.append(float(row["value"]))
@@ -61,3 +66,27 @@ def running_mean(values: list[float], window: int) -> np.ndarray:
     ends = np.arange(1, len(values) + 1)
     starts = np.maximum(ends - window, 0)
     return (cumulative[ends] - cumulative[starts]) / (ends - starts)
+
+
+def success_tag(group: str, pad_enters: bool = False) -> str:
+    """The metric a group is read on: its training success, or (`pad_enters`, finger-pull
+    groups) its success on parts whose channel the fingertip pad enters."""
+    if pad_enters and group.startswith("finger_pull_"):
+        return f"/pad_enters_success/{group}"
+    return f"/success/{group}"
+
+
+def last_window(run: Path, pad_enters: bool = False) -> dict[str, float | None]:
+    """Each group's mean training success over the run's last full WINDOW iterations
+    (iterations N - WINDOW .. N - 1 of a run that logged N; None: no entry there, or the run
+    is shorter than the window); `pad_enters`: see `success_tag`."""
+    metrics = read_metrics(run)
+    # rsl-rl's `.../time` tags are stepped in seconds, every other tag in iterations
+    logged = [its for tag, (its, _) in metrics.items() if len(its) and not tag.endswith("/time")]
+    last = max(int(np.max(its)) for its in logged) if logged else -1
+    out: dict[str, float | None] = {}
+    for group in GROUPS:
+        its, values = (np.asarray(x) for x in metrics.get(success_tag(group, pad_enters), ([], [])))
+        chosen = values[its >= last - WINDOW + 1] if last + 1 >= WINDOW else values[:0]
+        out[group] = float(chosen.mean()) if chosen.size else None
+    return out

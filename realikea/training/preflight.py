@@ -15,6 +15,7 @@ from omegaconf import DictConfig, OmegaConf
 
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
+from realikea.training.pipeline import check_launch, check_pipeline, pipelined
 from realikea.training.train import check_inputs
 
 RUN_MARKS = ("metrics.csv", "model_*.pt")  # files a launch leaves in its folder
@@ -63,12 +64,15 @@ class Preflight(Callback):
 
     def on_run_start(self, config: DictConfig, **kwargs) -> None:
         with user_errors():
-            check_inputs(config)
+            if pipelined(config):
+                check_launch(config, list(config.hydra.overrides.task))
+            else:
+                check_inputs(config)
             check_fresh_folder(Path(OmegaConf.select(config, "hydra.run.dir")), config.train.resume)
 
     def on_multirun_start(self, config: DictConfig, **kwargs) -> None:
-        with user_errors():
-            check_inputs(config)
+        with user_errors():  # a pipeline's stages are checked per job, when it starts
+            check_pipeline(config) if pipelined(config) else check_inputs(config)
             check_fresh_folder(
                 Path(OmegaConf.select(config, "hydra.sweep.dir")), config.train.resume
             )

@@ -5,7 +5,9 @@ A run trains in WORK/NAME (git-ignored). It is finished once WORK/NAME holds its
 then kept: `keep(run, seconds)` copies what the experiment commits. A stopped run (checkpoints,
 no `done` file) continues from its last checkpoint (`train.resume=`) for the iterations it
 still lacks, appending to its metrics.csv; one without a checkpoint starts again in an emptied
-folder (train.py refuses a folder that holds another launch's files). A run whose training
+folder (train.py refuses a folder that holds another launch's files). A staged run (a training
+pipeline: realikea/training/pipeline.py, its stages in folders of WORK/NAME) continues from its
+folder (`train.resume=WORK/NAME`), which finds its stages done or stopped. A run whose training
 process is alive (WORK/NAME.pid) is left to it, so two drivers never train the same run, and one
 kept meanwhile by another driver is not kept again. Each launch's wall time is written to
 WORK/NAME.wall.json at every poll, so a launch stopped with the session still counts. A run whose
@@ -46,15 +48,18 @@ POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wa
 STOPPED_EARLY = "STOPPED_EARLY"  # in a run's folder: stopped by `stop_early`, finished as it is
 PARK_REQUEST = "PARK"  # in WORK: stop every run at its next checkpoint, then park it
 DRIVERS = "drivers"  # in WORK: one empty file per live driver, named by its pid
+STAGES = "stages.json"  # in a staged run's folder: its finished stages (training/pipeline.py)
 
 
 @dataclass(frozen=True)
 class QueuedRun:
-    """One training run: its name (its folder), train.py overrides and length."""
+    """One training run: its name (its folder), train.py overrides and length (a staged run's:
+    its last stage's, whose checkpoints are in its folder itself)."""
 
     name: str
     overrides: tuple[str, ...]
     iterations: int
+    staged: bool = False
 
 
 @dataclass
@@ -79,6 +84,8 @@ class RunQueue:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
         out = [sys.executable, str(WORKSPACE / "train.py"), *run.overrides]
         out.append(f"hydra.run.dir={self.work / run.name}")
+        if run.staged:
+            return out + ([f"train.resume={self.work / run.name}"] if self.progress(run) else [])
         if (found := self._last_checkpoint(run)) is not None:
             last, path = found
             out += [f"train.resume={path}", f"agent.max_iterations={run.iterations - last}"]
@@ -98,7 +105,7 @@ class RunQueue:
             return "running"
         if self.finished(run):
             return "finished"
-        if any((self.work / run.name).glob("model_*.pt")):
+        if self.progress(run) > 0:
             return "stopped"
         parked = self.parked is not None and (self.parked / run.name / "wall.json").is_file()
         return "parked" if parked else "new"
@@ -118,10 +125,19 @@ class RunQueue:
         found = self._last_checkpoint(run)
         return -1 if found is None else found[0]
 
+    def progress(self, run: QueuedRun) -> int:
+        """What grows with each checkpoint the run writes (0: none yet): its last checkpoint's
+        iteration + 1, or a staged run's count of checkpoints over its stages."""
+        if run.staged:
+            return sum(1 for _ in (self.work / run.name).rglob("model_*.pt"))
+        return self.last_checkpoint(run) + 1
+
     def may_stop(self, run: QueuedRun, since: int) -> bool:
-        """Whether to stop `run` for parking: it has written a checkpoint after iteration `since`,
-        and not its last (a run past its last checkpoint is evaluating: it finishes)."""
-        return since < self.last_checkpoint(run) < run.iterations - 1
+        """Whether to stop `run` for parking: it has written a checkpoint since its `progress`
+        was `since`, and not its last (a run past its last checkpoint is evaluating: it
+        finishes)."""
+        final = self.work / run.name / f"model_{run.iterations - 1}.pt"
+        return since < self.progress(run) and not final.is_file()
 
     def wall_times(self, run: QueuedRun) -> list[float]:
         """Wall seconds of the run's launches so far (the running one's as of the last poll)."""
@@ -137,8 +153,9 @@ class RunQueue:
 
     def park(self, runs: list[QueuedRun]) -> list[Path]:
         """Copy each stopped run's resumable state to `parked`/NAME: its Hydra config, metrics,
-        last checkpoint whole (optimiser included) and launches' wall times, so a session on
-        another machine resumes it (`_launch` puts it back); returns the folders written."""
+        last checkpoint whole (optimiser included; a staged run: each stage's metrics and last
+        checkpoint, and its stages.json) and launches' wall times, so a session on another
+        machine resumes it (`_launch` puts it back); returns the folders written."""
         if self.parked is None:
             raise ValueError("this queue has no folder to park runs in")
         done = []
@@ -149,9 +166,14 @@ class RunQueue:
             staging = target.with_name(target.name + ".partial")
             shutil.rmtree(staging, ignore_errors=True)
             shutil.copytree(source / ".hydra", staging / ".hydra")
-            shutil.copy2(source / "metrics.csv", staging / "metrics.csv")
-            last = checkpoints(source)[-1][1]
-            shutil.copy2(last, staging / last.name)
+            for folder in _trained_folders(source, run.staged):
+                target_folder = staging / folder.relative_to(source)
+                target_folder.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(folder / "metrics.csv", target_folder / "metrics.csv")
+                last = checkpoints(folder)[-1][1]
+                shutil.copy2(last, target_folder / last.name)
+            if (source / STAGES).is_file():
+                shutil.copy2(source / STAGES, staging / STAGES)
             atomic_write_text(staging / "wall.json", json.dumps(self.wall_times(run)) + "\n")
             shutil.rmtree(target, ignore_errors=True)
             staging.rename(target)
@@ -168,7 +190,7 @@ class RunQueue:
     def _launch(self, run: QueuedRun) -> subprocess.Popen:
         self.work.mkdir(parents=True, exist_ok=True)
         state = self.state(run)
-        if state == "new" and (self.work / run.name / "metrics.csv").is_file():
+        if state == "new" and any((self.work / run.name).rglob("metrics.csv")):
             shutil.rmtree(self.work / run.name)  # a launch that died before its first checkpoint
         if state == "parked":
             self._unpark(run)
@@ -224,7 +246,7 @@ class RunQueue:
             print(f"asked drivers {self.drivers()} to stop runs at next checkpoints", flush=True)
             while self.drivers():
                 time.sleep(POLL_SECONDS)
-        orphans = {run: self.last_checkpoint(run) for run in runs if self.running(run)}
+        orphans = {run: self.progress(run) for run in runs if self.running(run)}
         for run in orphans:
             print(f"{run.name} trains with no driver: stop at next checkpoint", flush=True)
         while orphans:
@@ -289,7 +311,7 @@ class RunQueue:
         failed = 0
         while active or (queue and stop_after is None):
             if stop_after is None and self._parking():
-                stop_after = {run: self.last_checkpoint(run) for run in active}
+                stop_after = {run: self.progress(run) for run in active}
                 print("parking: each run stops at its next checkpoint", flush=True)
             while queue and len(active) < jobs and stop_after is None:
                 run = queue.pop(0)
@@ -352,23 +374,41 @@ def _interruptible() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+def _trained_folders(run_dir: Path, staged: bool) -> list[Path]:
+    """The folders of a run that hold a training's metrics and checkpoints: the run's, and a
+    staged run's stages' (its folders holding checkpoints)."""
+    stages = sorted({p.parent for p in run_dir.glob("*/model_*.pt")}) if staged else []
+    return [run_dir, *stages] if any(run_dir.glob("model_*.pt")) else stages
+
+
 def keep_run(
     source: Path,
     target: Path,
     seconds: list[float],
     kept: list[Path] | None = None,
     files: dict[str, str] | None = None,
+    staged: bool = False,
 ) -> Path:
     """Copy a finished run's Hydra config, its metrics (launches joined), its checkpoints
     `kept` (default: the last) slimmed to what evaluation reads, the launches' wall times and
-    `files` (name -> text) from `source` to `target`, which appears whole or not at all."""
+    `files` (name -> text) from `source` to `target`, which appears whole or not at all. A
+    `staged` run's stages come too, each its metrics and last checkpoint slimmed, and its
+    stages.json."""
     staging = target.with_name(target.name + ".partial")
     shutil.rmtree(staging, ignore_errors=True)
     shutil.copytree(source / ".hydra", staging / ".hydra")
     for name, text in (files or {}).items():
         atomic_write_text(staging / name, text)
-    metrics = (source / "metrics.csv").read_text().splitlines()
-    atomic_write_text(staging / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
+    for folder in _trained_folders(source, staged):
+        target_folder = staging / folder.relative_to(source)
+        target_folder.mkdir(parents=True, exist_ok=True)
+        metrics = (folder / "metrics.csv").read_text().splitlines()
+        atomic_write_text(target_folder / "metrics.csv", "\n".join(join_launches(metrics)) + "\n")
+        if folder != source:
+            last = checkpoints(folder)[-1][1]
+            slim_checkpoint(last, target_folder / last.name)
+    if staged and (source / STAGES).is_file():
+        shutil.copy2(source / STAGES, staging / STAGES)
     for path in kept or [checkpoints(source)[-1][1]]:
         slim_checkpoint(path, staging / path.name)
     atomic_write_text(staging / "wall.json", json.dumps({"launches_seconds": seconds}) + "\n")

@@ -37,8 +37,9 @@ def algorithm_class(agent: DictConfig) -> str:
     return GROUP_PPO if agent.get("group_advantages") else "PPO"
 
 
-def runner_config(cfg: DictConfig) -> dict:
-    """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`."""
+def runner_config(cfg: DictConfig, label: str = "") -> dict:
+    """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`; `label` names the
+    launch on its progress bar (a pipeline's stage)."""
     agent = cfg.agent
     distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
     if agent.get("min_std") is not None:
@@ -73,6 +74,7 @@ def runner_config(cfg: DictConfig) -> dict:
             "backend": str(cfg.logger.backend),
             **({"project_name": str(cfg.logger.project)} if "project" in cfg.logger else {}),
             **({"iterations": int(agent.max_iterations)} if cfg.train.console == "bar" else {}),
+            **({"description": label} if label and cfg.train.console == "bar" else {}),
         },
         "check_for_nan": True,
     }
@@ -189,15 +191,16 @@ def env_groups(draw: SuccessFollowingDraw | RotatingDraw | TrainingDraw) -> list
     return [] if isinstance(draw, SuccessFollowingDraw) else [c.group for c in draw.configurations]
 
 
-def train_config(cfg: DictConfig) -> dict:
+def train_config(cfg: DictConfig, label: str = "") -> dict:
     """rsl-rl's train_cfg: PPO's (`runner_config`), or the distillation's when the run distils
     teachers (`distill.teachers`, checked by `check_inputs`)."""
-    ppo = runner_config(cfg)
+    ppo = runner_config(cfg, label)
     return distillation_config(cfg, ppo, teacher_paths(cfg)) if distilling(cfg) else ppo
 
 
-def train(cfg: DictConfig, run_dir: Path) -> Path:
-    """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`."""
+def train(cfg: DictConfig, run_dir: Path, label: str = "") -> Path:
+    """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`. `label`
+    names the launch on its progress bar."""
     run_dir = Path(run_dir)
     draw = check_inputs(cfg)
     torch.set_num_threads(int(cfg.train.torch_threads))
@@ -216,7 +219,7 @@ def train(cfg: DictConfig, run_dir: Path) -> Path:
         )
         runner = Runner(
             env,
-            train_config(cfg),
+            train_config(cfg, label),
             log_dir=str(run_dir),
             device=cfg.train.device,
             infos=checkpoint_infos(cfg),

@@ -1,0 +1,250 @@
+"""One policy for a draw over several category x kind groups, trained in stages
+(`pipeline=distilled`, realikea/conf/pipeline/distilled.yaml): a teacher per kind, a group's own
+teacher where the pipeline names one or its kind's teacher missed it, then every group's teacher
+distilled into one student, the launch's one checkpoint.
+
+    python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
+    python train.py pipeline=distilled train.resume=RUN    # continue a stopped one in RUN
+
+Why: one PPO policy over the nine groups learns some groups and loses others by seed, whereas
+specialists learn their groups reliably (experiments/generalist/README.md, the screen's rounds).
+Each stage is a training run of the launch's own overrides with the pipeline's on top
+(`stage_config`), in a folder of the run directory named after it; the student trains in the run
+directory itself, so its metrics.csv and checkpoints are the launch's. A stage whose last
+checkpoint is there is done; a stopped one continues from its last checkpoint. RUN/stages.json
+records each finished stage: its overrides, the wall seconds of the launch that finished it and
+each group's training success over its last full window (`realikea.training.metrics`).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from omegaconf import DictConfig, OmegaConf
+
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES, GROUPS, group_name
+from realikea.config import load_config, overrides_set
+from realikea.errors import RealIkeaError
+from realikea.eval.sweep import checkpoints
+from realikea.files import atomic_write_text
+from realikea.training.metrics import last_window
+from realikea.training.train import check_inputs, env_groups, train
+
+PIPELINES = ("none", "distilled")
+# launch overrides no stage takes: the pipeline's own keys, its resume folder and its evaluation
+LAUNCH_ONLY = ("pipeline", "train.resume", "train.eval_after")
+# launch overrides a pipeline refuses (every stage sets them) -> the settings to use instead
+STAGE_SET = {
+    "agent.max_iterations": "pipeline.teacher.iterations, pipeline.student.iterations, ...",
+    "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
+}
+STAGES_FILE = "stages.json"
+STUDENT = "student"
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One training run of the pipeline: its name (its folder under the run directory; the
+    student's is the run directory), its overrides on top of the launch's, and its length."""
+
+    name: str
+    overrides: tuple[str, ...]
+    iterations: int
+
+
+def pipelined(cfg: DictConfig) -> bool:
+    """Whether the launch trains in stages (`pipeline.name` other than none)."""
+    return str(OmegaConf.select(cfg, "pipeline.name", default="none")) != "none"
+
+
+def check_pipeline(cfg: DictConfig) -> None:
+    """Refuse a pipeline config that is unknown, names an unknown group or holds a length or
+    mark out of range, naming the key."""
+    pipeline = cfg.pipeline
+    if pipeline.name not in PIPELINES:
+        raise RealIkeaError(f"pipeline={pipeline.name}: use one of {', '.join(PIPELINES)}")
+    unknown = sorted(set(own_teachers(cfg)) - set(GROUPS))
+    if unknown:
+        raise RealIkeaError(
+            f"pipeline.own_teachers: unknown group {', '.join(unknown)}; use {', '.join(GROUPS)}"
+        )
+    specs = {"teacher": pipeline.teacher, "student": pipeline.student}
+    specs |= {f"own_teachers[{g}]": s for g, s in own_teachers(cfg).items()}
+    for key, spec in specs.items():
+        if int(spec.iterations) < 1 or not 0 <= int(spec.switch_iteration) <= int(spec.iterations):
+            raise RealIkeaError(
+                f"pipeline.{key}: iterations={spec.iterations}, switch_iteration="
+                f"{spec.switch_iteration}; use iterations >= 1 and 0 <= switch_iteration <= "
+                "iterations"
+            )
+    if not 0.0 <= float(pipeline.learned) <= 1.0:
+        raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
+
+
+def final_iterations(cfg: DictConfig) -> int:
+    """The length of the launch's run whose checkpoints are in its run folder: the student's
+    for a pipeline, the agent's otherwise."""
+    return int(cfg.pipeline.student.iterations if pipelined(cfg) else cfg.agent.max_iterations)
+
+
+def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
+    """`pipeline.own_teachers` by group."""
+    return {str(entry.group): entry for entry in cfg.pipeline.own_teachers or []}
+
+
+def teacher_stage(cfg: DictConfig, kind: str, category: str = "") -> Stage:
+    """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
+    seed where the pipeline names it, else (its kind's teacher missed it) on the next seed."""
+    pipeline, seed = cfg.pipeline, int(cfg.env.seed)
+    group = group_name(category, kind) if category else ""
+    named = own_teachers(cfg).get(group)
+    spec = named or pipeline.teacher
+    trained_on = seed + 1 if category and named is None else seed
+    scope = (f"asset={category}",) if category else ()
+    return Stage(
+        f"teacher_{group or kind}",
+        (*scope, f"asset.kind={kind}", f"env.seed={trained_on}",
+         f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}"),
+        int(spec.iterations),
+    )  # fmt: skip
+
+
+def student_stage(cfg: DictConfig) -> Stage:
+    spec = cfg.pipeline.student
+    return Stage(
+        STUDENT,
+        (f"env.seed={int(cfg.env.seed)}", f"agent.max_iterations={spec.iterations}",
+         f"dr.switch_iteration={spec.switch_iteration}"),
+        int(spec.iterations),
+    )  # fmt: skip
+
+
+def stage_config(
+    cfg: DictConfig, launch: list[str], stage: Stage, teachers: dict[str, Path] | None = None
+) -> DictConfig:
+    """The stage's config: the launch's overrides (but `LAUNCH_ONLY`), the pipeline's
+    `every_stage`, then the stage's, as one run (`pipeline=none`); the student's teachers as
+    `distill.teachers`."""
+    kept = [o for o in launch if not any(overrides_set([o], key) for key in LAUNCH_ONLY)]
+    stage_cfg = load_config([*kept, *cfg.pipeline.every_stage, *stage.overrides, "pipeline=none"])
+    if teachers:
+        paths = {group: str(path) for group, path in teachers.items()}
+        OmegaConf.update(stage_cfg, "distill.teachers", paths, merge=False)
+    return stage_cfg
+
+
+def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
+    """Check every stage known before training (the kind teachers, the named own teachers,
+    the student without its teachers: `check_inputs`); returns the student's draw's groups in
+    `GROUPS` order."""
+    check_pipeline(cfg)
+    groups = set(env_groups(check_inputs(stage_config(cfg, launch, student_stage(cfg)))))
+    for kind in BASE_KINDS:
+        if any(group_name(c, kind) in groups for c in CATEGORIES):
+            check_inputs(stage_config(cfg, launch, teacher_stage(cfg, kind)))
+    for group in sorted(set(own_teachers(cfg)) & groups):
+        category, kind = next((c, k) for c in CATEGORIES for k in BASE_KINDS
+                              if group_name(c, k) == group)  # fmt: skip
+        check_inputs(stage_config(cfg, launch, teacher_stage(cfg, kind, category)))
+    return [g for g in GROUPS if g in groups]
+
+
+def check_resume_folder(cfg: DictConfig) -> None:
+    """Refuse a pipeline's `train.resume` that is not a run folder of one."""
+    folder = Path(cfg.train.resume)
+    if not (folder / STAGES_FILE).is_file() and not any(folder.glob("teacher_*")):
+        raise RealIkeaError(
+            f"train.resume={folder}: a pipeline resumes from its run folder (holding "
+            f"{STAGES_FILE} or teacher_* folders), not {'a file' if folder.is_file() else 'this'}"
+        )
+
+
+class Pipeline:
+    """The stages of one launch in its run folder `root`."""
+
+    def __init__(self, cfg: DictConfig, launch: list[str], root: Path):
+        self.cfg, self.launch, self.root = cfg, launch, Path(root)
+        self.started = 0  # stages run or found done so far: the progress bar's stage number
+
+    def folder(self, stage: Stage) -> Path:
+        return self.root if stage.name == STUDENT else self.root / stage.name
+
+    def run(self, stage: Stage, teachers: dict[str, Path] | None = None) -> Path:
+        """Train the stage (or continue it, or find it done); its last checkpoint."""
+        self.started += 1
+        label = f"stage {self.started} {stage.name}"
+        folder = self.folder(stage)
+        final = folder / f"model_{stage.iterations - 1}.pt"
+        if final.is_file():
+            print(f"{label}: done ({final})", flush=True)
+            return final
+        stage_cfg = stage_config(self.cfg, self.launch, stage, teachers)
+        found = checkpoints(folder) if any(folder.glob("model_*.pt")) else []
+        if found:
+            last, path = found[-1]
+            stage_cfg.train.resume = str(path)
+            stage_cfg.agent.max_iterations = stage.iterations - last
+        elif stage.name == STUDENT:
+            (folder / "metrics.csv").unlink(missing_ok=True)  # a launch stopped before a checkpoint
+        else:
+            shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True, exist_ok=True)
+        print(f"{label}: {' '.join(stage.overrides)}", flush=True)
+        begin = time.perf_counter()
+        checkpoint = train(stage_cfg, folder, label)
+        self.record(stage, time.perf_counter() - begin, found[-1][0] if found else 0)
+        return checkpoint
+
+    def record(self, stage: Stage, seconds: float, resumed_at: int) -> None:
+        """Add the finished stage to RUN/stages.json (in place of an earlier record of it)."""
+        path = self.root / STAGES_FILE
+        stages = json.loads(path.read_text()) if path.is_file() else []
+        stages = [s for s in stages if s["name"] != stage.name]
+        success = last_window(self.folder(stage))
+        stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(seconds, 1),
+                       "success": {g: v for g, v in success.items() if v is not None}})  # fmt: skip
+        atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
+
+    def train(self, groups: list[str]) -> Path:
+        """Teachers per kind, own teachers, then the student; the student's last checkpoint."""
+        learned = float(self.cfg.pipeline.learned)
+        own = set(own_teachers(self.cfg))
+        kinds = [k for k in BASE_KINDS if any(group_name(c, k) in groups for c in CATEGORIES)]
+        by_kind = {kind: self.run(teacher_stage(self.cfg, kind)) for kind in kinds}
+        teachers: dict[str, Path] = {}
+        for kind, checkpoint in by_kind.items():
+            success = last_window(checkpoint.parent)
+            for category in CATEGORIES:
+                group = group_name(category, kind)
+                if group not in groups:
+                    continue
+                if group in own or (success[group] or 0.0) < learned:
+                    teachers[group] = self.run(teacher_stage(self.cfg, kind, category))
+                else:
+                    teachers[group] = checkpoint
+        return self.run(student_stage(self.cfg), teachers)
+
+
+def check_launch(cfg: DictConfig, launch: list[str]) -> list[str]:
+    """Every check of a pipeline launch that needs no simulation (no length of its own, its
+    resume folder, its settings, every stage known before training: `check_stages`); the
+    draw's groups."""
+    for key, instead in STAGE_SET.items():
+        if overrides_set(launch, key):
+            raise RealIkeaError(
+                f"{key}: each stage of pipeline={cfg.pipeline.name} sets its own; set {instead}"
+            )
+    if cfg.train.resume:
+        check_resume_folder(cfg)
+    return check_stages(cfg, launch)
+
+
+def train_pipeline(cfg: DictConfig, run_dir: Path, launch: list[str]) -> Path:
+    """Train the launch's pipeline in `run_dir` (or continue it in `train.resume`'s folder),
+    every stage checked first; returns the student's last checkpoint."""
+    groups = check_launch(cfg, launch)
+    return Pipeline(cfg, launch, Path(cfg.train.resume or run_dir)).train(groups)

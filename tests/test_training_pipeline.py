@@ -1,0 +1,151 @@
+"""The staged training pipeline (realikea/training/pipeline.py): its stages compose as the
+generalist screen's round 7 ran them, bad settings are refused before any work, and a small
+pipeline trains its teachers, routes its student to them and resumes where it stopped."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from conftest import SMALL_RUN
+from omegaconf import OmegaConf
+
+from realikea.config import load_config
+from realikea.errors import RealIkeaError
+from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.training.pipeline import (
+    check_launch,
+    check_pipeline,
+    stage_config,
+    student_stage,
+    teacher_stage,
+    train_pipeline,
+)
+from realikea.training.queue import QueuedRun, RunQueue, keep_run
+
+LAUNCH = ["pipeline=distilled", "logger=none", "env.seed=20"]
+
+
+def without_pipeline(cfg) -> dict:
+    out = OmegaConf.to_container(cfg, resolve=True)
+    out.pop("pipeline")
+    return out
+
+
+@pytest.fixture
+def screen(load_script):
+    return load_script("experiments/generalist/screen.py")
+
+
+def test_the_stages_compose_as_the_screens_round_seven_ran_them(screen):
+    """Each stage's config is the config of the run the screen trained for distilled_rotate on
+    seed 20: the kind teachers, the finger-pull door specialist, a teacher-rule teacher (on the
+    next seed) and the student with its teachers."""
+    cfg = load_config(LAUNCH)
+    scopes = [("drawer", ""), ("door", ""), ("flap", ""), ("door", "finger_pull"), ("door", "knob")]
+    pairs = [
+        (teacher_stage(cfg, kind, cat), screen.teacher_run("distilled_rotate", 20, kind, cat))
+        for kind, cat in scopes
+    ]
+    for stage, run in pairs:
+        assert stage.name == run.name.split("/")[1] and stage.iterations == run.iterations
+        assert without_pipeline(stage_config(cfg, LAUNCH, stage)) == without_pipeline(
+            load_config(run.overrides)
+        )
+    assert "env.seed=21" in teacher_stage(cfg, "door", "knob").overrides
+    teachers = {"knob_door": "/t/a.pt", "finger_pull_door": "/t/b.pt"}
+    run = screen.student_run("distilled_rotate", 20, teachers)
+    student = stage_config(cfg, LAUNCH, student_stage(cfg), teachers)
+    assert without_pipeline(student) == without_pipeline(load_config(run.overrides))
+    assert student.pipeline.name == "none"  # a stage is one run
+
+
+@pytest.mark.parametrize(
+    "override, message",
+    [
+        ("pipeline.own_teachers=[{group: knob_hatch, iterations: 9, switch_iteration: 0}]",
+         "pipeline.own_teachers: unknown group knob_hatch"),
+        ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
+        ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
+        ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),
+    ],
+)  # fmt: skip
+def test_bad_settings_are_refused_naming_the_key(override, message):
+    with pytest.raises(RealIkeaError, match=message.replace("[", r"\[")):
+        check_pipeline(load_config([*LAUNCH, override]))
+
+
+def test_a_length_of_the_launch_is_refused_naming_the_stages_settings():
+    launch = [*LAUNCH, "agent.max_iterations=100"]
+    with pytest.raises(RealIkeaError, match="set pipeline.teacher.iterations"):
+        check_launch(load_config(launch), launch)
+
+
+def test_a_resume_that_is_not_a_pipelines_folder_is_refused(tmp_path):
+    checkpoint = tmp_path / "model_9.pt"
+    checkpoint.write_bytes(b"")
+    cfg = load_config([*LAUNCH, f"train.resume={checkpoint}"])
+    with pytest.raises(RealIkeaError, match="a pipeline resumes from its run folder"):
+        check_launch(cfg, LAUNCH)
+
+
+SMALL_PIPELINE = [
+    "pipeline=distilled",
+    *SMALL_RUN,
+    "asset.base=null",  # one base of each kind (env.num_envs=3, stratified)
+    "asset.stratify=[kind]",
+    "env.num_envs=3",
+    "logger=none",
+    "agent.num_steps_per_env=8",
+    "agent.actor_hidden_dims=[8]",
+    "agent.critic_hidden_dims=[8]",
+    'pipeline.every_stage=["agent=ppo"]',
+    "pipeline.teacher.iterations=2",
+    "pipeline.teacher.switch_iteration=0",
+    "pipeline.student.iterations=2",
+    "pipeline.own_teachers=[]",
+    # no teacher logs a full window in 2 iterations, so each group gets its own on seed 1
+    "pipeline.learned=1.0",
+]
+
+
+def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, capsys):
+    """Three kind teachers, each group's own teacher by the teacher rule, then the student
+    routed to them; kept and parked with its stages; a stopped teacher and student continue
+    from their checkpoints."""
+    launch = [*SMALL_PIPELINE, f"paths.library={tmp_path / 'lib'}"]
+    run = tmp_path / "work/run"
+    final = train_pipeline(load_config(launch), run, launch)
+    assert final == run / "model_1.pt"
+    stages = json.loads((run / "stages.json").read_text())
+    own = ["teacher_two_point_drawer", "teacher_two_point_door", "teacher_two_point_flap"]
+    names = ["teacher_drawer", "teacher_door", "teacher_flap", *own, "student"]
+    assert [s["name"] for s in stages] == names
+    assert all("env.seed=1" in s["overrides"] for s in stages if s["name"] in own)
+    routed = CheckpointPolicy(final).run_cfg.distill.teachers
+    assert routed.two_point_door == str(run / "teacher_two_point_door/model_1.pt")
+    (run / ".hydra").mkdir()  # as Hydra writes it
+    kept = keep_run(run, tmp_path / "kept", [60.0], staged=True)
+    assert {p.relative_to(kept).as_posix() for p in kept.rglob("model_*.pt")} == {
+        "model_1.pt", *(f"{name}/model_1.pt" for name in names[:-1])
+    }  # fmt: skip
+    assert (kept / "stages.json").is_file() and (kept / "teacher_door/metrics.csv").is_file()
+    # a stop during the flap's own teacher: its last checkpoint is its first
+    (run / "teacher_two_point_flap/model_1.pt").unlink()
+    (run / "model_1.pt").unlink(), (run / "model_0.pt").unlink()
+    queue = RunQueue(tmp_path / "work", lambda r: f"model_{r.iterations - 1}.pt",
+                     lambda r, s: run, lambda r: False, parked=tmp_path / "parked")  # fmt: skip
+    staged = QueuedRun("run", (), 2, staged=True)
+    assert queue.state(staged) == "stopped" and f"train.resume={run}" in queue.command(staged)
+    (parked,) = queue.park([staged])
+    assert (parked / "teacher_two_point_flap/model_0.pt").is_file()
+    assert not (parked / "teacher_door/model_0.pt").exists()  # each stage's last only
+    capsys.readouterr()
+    resumed = load_config([*launch, f"train.resume={run}"])
+    assert train_pipeline(resumed, tmp_path / "elsewhere", launch) == final
+    printed = capsys.readouterr().out
+    assert printed.count(": done (") == 5
+    assert "stage 6 teacher_two_point_flap: asset=two_point" in printed
+    stages = json.loads((run / "stages.json").read_text())
+    assert [s["name"] for s in stages] == [*names[:5], "teacher_two_point_flap", "student"]
+    assert stages[5]["resumed_at"] == 0 and final.is_file()
