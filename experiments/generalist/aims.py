@@ -25,6 +25,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from train_gated import RECIPES as GATED_RECIPES
 from train_gated import RESULTS, kept_dir
 
 from realikea.assets.catalog import CATEGORIES
@@ -38,8 +39,7 @@ from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 PARKED = RESULTS / "aims_parked"
 WORK = WORKSPACE / "outputs/generalist_aims"
-# python train.py and the design card's command, with whatever defaults they have when they run
-RECIPES = {"default": (), "hull_high": ("collision=hull", "resistance=high")}
+RECIPES = {name: tuple(GATED_RECIPES[name]) for name in ("default", "hull_high")}
 SEEDS = {"default": (200, 201, 202), "hull_high": (210, 211, 212)}
 # evaluations of a kept run: results folder suffix -> (resistance modes, extra eval overrides)
 EVALUATIONS = {

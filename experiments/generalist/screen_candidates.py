@@ -3,9 +3,7 @@ rounds): each single-run candidate's overrides and iterations, each distilled ca
 and the rounds that registered them. `screen.py` trains them.
 """
 
-# one run each (a distilled candidate's stages are runs of their own): python train.py trains
-# the library draw in stages since round 7's adoption
-COMMON = ("logger=none", "pipeline=none")
+COMMON = ("logger=none",)
 # round 1 ran on python train.py's defaults of its day: the library's draw, CoACD, normal and the
 # single-task agent (the library draw's default became agent=multitask, round 1's adopted
 # group_ppo, after it); later rounds run on the defaults round 1 left

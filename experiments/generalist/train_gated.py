@@ -5,10 +5,8 @@ metrics, the launches' wall times, the Hydra config, the learning curve).
     python experiments/generalist/train_gated.py                      # every run not yet kept
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
 
-Recipes, each one run (`pipeline=none`) on the single-task agent (`agent=ppo`), as they were
-trained: `default` is `python train.py` of their day (CoACD, normal, every category and kind,
-1,500 iterations); `hull_high` the design card's `python train.py collision=hull
-resistance=high` of their day;
+Recipes: `default` is `python train.py` (CoACD, normal, every category and kind, 1,500
+iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`;
 `default_doors2` the default with twice the draw's turns for door groups (`asset.group_weights`);
 `default_follow` the default with a draw that follows training success
 (`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations);
@@ -32,22 +30,21 @@ from realikea.training.queue import QueuedRun, RunQueue, keep_run
 RESULTS = WORKSPACE / "experiments/generalist/results"
 WORK = WORKSPACE / "outputs/generalist"
 ITERATIONS = 1500  # the defaults' agent.max_iterations
-# one run on the single-task agent, the default of their day (python train.py now trains the
-# library draw in stages, realikea/conf/pipeline/distilled.yaml)
-THEIR_DAY = ["agent=ppo", "pipeline=none"]
+# the variants below were run, and stay, on the single-task agent (agent=ppo), the default of
+# their day; `default` and `hull_high` are whatever python train.py's defaults are
 RECIPES = {
-    "default": THEIR_DAY,
-    "hull_high": [*THEIR_DAY, "collision=hull", "resistance=high"],
+    "default": [],
+    "hull_high": ["collision=hull", "resistance=high"],
     # the default with each door group drawn twice as often (about 11 of the 64 envs, the others
     # 5-6): doors are learned last, or never, in the default's seeds
-    "default_doors2": [*THEIR_DAY, "asset.group_weights={door:2}"],
+    "default_doors2": ["agent=ppo", "asset.group_weights={door:2}"],
     # the default with a draw that follows training success: every 50 iterations each group
     # below 0.5 success takes three turns of the draw for every one of the others
-    "default_follow": [*THEIR_DAY, "asset.follow_success={every:50,below:0.5,weight:3}"],
+    "default_follow": ["agent=ppo", "asset.follow_success={every:50,below:0.5,weight:3}"],
     # door specialists: the default on doors only (the three categories, about 21 envs each),
     # 600 iterations, poses fixed to 300: whether doors are learned in every seed on their own
     "doors": [
-        *THEIR_DAY,
+        "agent=ppo",
         "asset.kind=door",
         "agent.max_iterations=600",
         "dr.switch_iteration=300",
