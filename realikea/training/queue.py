@@ -59,7 +59,7 @@ class QueuedRun:
     name: str
     overrides: tuple[str, ...]
     iterations: int
-    staged: bool = False
+    staged: bool = field(default=False, kw_only=True)  # keyword-only: subclasses add positionals
 
 
 @dataclass
