@@ -56,7 +56,7 @@ def aim_run(recipe: str, seed: int) -> QueuedRun:
     trains a pipeline)."""
     overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none")
     cfg = load_config(overrides)
-    return QueuedRun(f"{recipe}_s{seed}", overrides, final_iterations(cfg), pipelined(cfg))
+    return QueuedRun(f"{recipe}_s{seed}", overrides, final_iterations(cfg), staged=pipelined(cfg))
 
 
 def keep(run: QueuedRun, seconds: list[float]) -> Path:
