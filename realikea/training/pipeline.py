@@ -32,6 +32,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
 from realikea.files import atomic_write_text
 from realikea.training.metrics import last_window
+from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
 
 PIPELINES = ("none", "distilled")
@@ -42,7 +43,6 @@ STAGE_SET = {
     "agent.max_iterations": "pipeline.teacher.iterations, pipeline.student.iterations, ...",
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
 }
-STAGES_FILE = "stages.json"
 STUDENT = "student"
 
 
@@ -156,10 +156,10 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
 def check_resume_folder(cfg: DictConfig) -> None:
     """Refuse a pipeline's `train.resume` that is not a run folder of one."""
     folder = Path(cfg.train.resume)
-    if not (folder / STAGES_FILE).is_file() and not any(folder.glob("teacher_*")):
+    if not (folder / STAGES).is_file() and not any(folder.glob("teacher_*")):
         raise RealIkeaError(
             f"train.resume={folder}: a pipeline resumes from its run folder (holding "
-            f"{STAGES_FILE} or teacher_* folders), not {'a file' if folder.is_file() else 'this'}"
+            f"{STAGES} or teacher_* folders), not {'a file' if folder.is_file() else 'this'}"
         )
 
 
@@ -201,7 +201,7 @@ class Pipeline:
 
     def record(self, stage: Stage, seconds: float, resumed_at: int) -> None:
         """Add the finished stage to RUN/stages.json (in place of an earlier record of it)."""
-        path = self.root / STAGES_FILE
+        path = self.root / STAGES
         stages = json.loads(path.read_text()) if path.is_file() else []
         stages = [s for s in stages if s["name"] != stage.name]
         success = last_window(self.folder(stage))
