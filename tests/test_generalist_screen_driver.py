@@ -27,6 +27,18 @@ def keep_by_hand(kept, name, successes: dict[str, float], seconds: float, iterat
     (folder / "wall.json").write_text(json.dumps({"launches_seconds": [seconds]}))
 
 
+def log_pad_enters(folder, value: float, iterations=200):
+    """Add to a kept run's last 30 iterations its finger pulls' success on channels the pad
+    enters, the rows in one launch's order."""
+    metrics = folder / "metrics.csv"
+    header, *rows = metrics.read_text().splitlines()
+    rows += [f"{it},/pad_enters_success/finger_pull_{kind},{value}"
+             for it in range(iterations - 30, iterations)
+             for kind in ("drawer", "door", "flap")]  # fmt: skip
+    rows.sort(key=lambda row: int(row.split(",")[0]))
+    metrics.write_text("\n".join([header, *rows]) + "\n")
+
+
 class Recorder:
     """Stands in for the queue's training: records what each stage would run."""
 
@@ -146,7 +158,7 @@ def test_round_six_rotates_and_starts_some_finger_pull_doors_ajar(screen):
 
 
 def test_round_seven_distils_rotating_teachers_and_a_finger_pull_door_specialist(screen, tmp_path):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_rotate",)
+    assert screen.ROUNDS[7] == ("distilled_rotate",)
     assert screen.MARKS[7] == 0.8 and 7 in screen.PAD_ENTERS_ROUNDS
     kept = tmp_path / "kept"
     driver = screen.Screen(tmp_path / "work", kept, None)
@@ -176,11 +188,26 @@ def test_round_seven_distils_rotating_teachers_and_a_finger_pull_door_specialist
     groups = {g: 0.9 for g in GROUPS} | {"finger_pull_door": 0.7}
     keep_by_hand(kept, student.name, groups, 600.0, iterations=200)
     assert not driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
-    metrics = kept / student.name / "metrics.csv"
-    header, *rows = metrics.read_text().splitlines()
-    rows += [f"{it},/pad_enters_success/finger_pull_{kind},0.9" for it in range(170, 200)
-             for kind in ("drawer", "door", "flap")]  # fmt: skip
-    rows.sort(key=lambda row: int(row.split(",")[0]))  # one launch's order
-    metrics.write_text("\n".join([header, *rows]) + "\n")
+    log_pad_enters(kept / student.name, 0.9)
     assert driver.distilled("distilled_rotate", 20, 0.8, True, dry_run=False, park=False)
     assert driver.spent("distilled_rotate_s20") == 5100.0
+
+
+def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path):
+    """distilled_pairs: round 7's stages in one launch of the pipeline (the teachers two at a
+    time), kept with its stages; its student read on channels the pad enters."""
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_pairs",)
+    assert screen.MARKS[8] == 0.8 and 8 in screen.PAD_ENTERS_ROUNDS
+    run = screen.staged_run("distilled_pairs", 21)
+    assert run.staged and run.iterations == 200 and run.name == "distilled_pairs_s21"
+    assert set(run.overrides) == {"logger=none", "pipeline=distilled_pairs", "env.seed=21"}
+    kept = tmp_path / "kept"
+    groups = {g: 0.9 for g in GROUPS} | {"finger_pull_door": 0.7}
+    keep_by_hand(kept, run.name, groups, 4000.0, iterations=200)
+    driver = screen.Screen(tmp_path / "work", kept, None)
+    driver.run = Recorder()
+    assert not driver.single("distilled_pairs", 21, 0.8, False, False, reading=True)
+    log_pad_enters(kept / run.name, 0.9)
+    assert driver.single("distilled_pairs", 21, 0.8, False, False, reading=True)
+    assert not driver.single("distilled_pairs", 21, 0.8, dry_run=False, park=False)  # over all
+    assert driver.run.runs == [run] * 3

@@ -5,6 +5,11 @@ pipeline trains its teachers, routes its student to them and resumes where it st
 from __future__ import annotations
 
 import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 from conftest import SMALL_RUN
@@ -12,6 +17,7 @@ from omegaconf import OmegaConf
 
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
+from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy
 from realikea.training.pipeline import (
     check_launch,
@@ -58,6 +64,25 @@ def test_the_stages_compose_as_the_screens_round_seven_ran_them(screen):
     student = stage_config(cfg, LAUNCH, student_stage(cfg), teachers)
     assert without_pipeline(student) == without_pipeline(load_config(run.overrides))
     assert student.pipeline.name == "none"  # a stage is one run
+
+
+def test_paired_stages_are_round_sevens_with_one_env_worker_per_teacher():
+    """pipeline=distilled_pairs composes every stage as distilled does, each teacher with one
+    env worker (two train at once on two cores) and the student with the launch's."""
+    pairs = load_config([*LAUNCH, "pipeline=distilled_pairs"])
+    alone = load_config(LAUNCH)
+    launch = [*LAUNCH, "pipeline=distilled_pairs"]
+    for scope in [("drawer",), ("door", "finger_pull"), ("flap", "knob")]:
+        paired, single = teacher_stage(pairs, *scope), teacher_stage(alone, *scope)
+        assert paired.overrides == (*single.overrides, "env.num_workers=1")
+        expected = without_pipeline(stage_config(alone, LAUNCH, single))
+        expected["env"]["num_workers"] = 1
+        assert without_pipeline(stage_config(pairs, launch, paired)) == expected
+    student = stage_config(pairs, launch, student_stage(pairs))
+    assert without_pipeline(student) == without_pipeline(
+        stage_config(alone, LAUNCH, student_stage(alone))
+    )
+    assert student.env.num_workers is None  # one per core
 
 
 @pytest.mark.parametrize(
@@ -149,3 +174,67 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     stages = json.loads((run / "stages.json").read_text())
     assert [s["name"] for s in stages] == [*names[:5], "teacher_two_point_flap", "student"]
     assert stages[5]["resumed_at"] == 0 and final.is_file()
+
+
+def test_paired_teachers_train_side_by_side_each_once_what_it_needs_is_done(tmp_path):
+    """`pipeline=distilled_pairs`: the teachers train two at a time in their own processes
+    (one env worker each), a teacher-rule teacher only after its kind's teacher, never more
+    than two at once; the student last, with the launch's workers."""
+    launch = [*SMALL_PIPELINE, "pipeline=distilled_pairs", f"paths.library={tmp_path / 'lib'}"]
+    run = tmp_path / "run"
+    assert train_pipeline(load_config(launch), run, launch) == run / "model_1.pt"
+    stages = {s["name"]: s for s in json.loads((run / "stages.json").read_text())}
+    kinds = ("drawer", "door", "flap")
+    assert set(stages) == {"student", *(f"teacher_{k}" for k in kinds),
+                           *(f"teacher_two_point_{k}" for k in kinds)}  # fmt: skip
+    for kind in kinds:
+        assert stages[f"teacher_two_point_{kind}"]["began"] >= stages[f"teacher_{kind}"]["ended"]
+    assert stages["teacher_door"]["began"] < stages["teacher_drawer"]["ended"]  # side by side
+    teachers = [s for name, s in stages.items() if name != "student"]
+    for stage in teachers:
+        at_once = [s for s in teachers if s["began"] <= stage["began"] < s["ended"]]
+        assert len(at_once) <= 2 and "env.num_workers=1" in stage["overrides"]
+    assert "env.num_workers=1" not in stages["student"]["overrides"]
+    assert stages["student"]["began"] >= max(s["ended"] for s in teachers)
+
+
+def children(pid: int) -> list[int]:
+    """The pids of a process's children (Linux /proc)."""
+    found = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(p) for p in found.read_text().split()] if found.is_file() else []
+
+
+def descendants(pid: int) -> list[int]:
+    return [d for child in children(pid) for d in (child, *descendants(child))]
+
+
+def spawned(pid: int) -> bool:
+    """Whether the process is one multiprocessing spawned to run a function (a stage)."""
+    return b"spawn_main" in Path(f"/proc/{pid}/cmdline").read_bytes()
+
+
+def test_an_interrupted_pipeline_stops_its_stages_processes(tmp_path):
+    """SIGINT to a launch training two teachers side by side (what the run queue sends to park
+    it) stops both stages' processes and their env workers, and the launch exits."""
+    run = tmp_path / "run"
+    small = [o for o in SMALL_PIPELINE if o != "pipeline=distilled"]
+    command = [sys.executable, str(WORKSPACE / "train.py"), "pipeline=distilled_pairs", *small,
+               "pipeline.teacher.iterations=400", f"paths.library={tmp_path / 'lib'}",
+               f"hydra.run.dir={run}"]  # fmt: skip
+    launch = subprocess.Popen(command, cwd=WORKSPACE, stdout=subprocess.PIPE, text=True)
+    begin = time.time()
+    while time.time() - begin < 120:  # both teachers have logged an iteration
+        logged = [run / f"teacher_{k}/metrics.csv" for k in ("drawer", "door")]
+        if all(p.is_file() and len(p.read_text().splitlines()) > 1 for p in logged):
+            break
+        time.sleep(0.5)
+    below = descendants(launch.pid)
+    stages = [pid for pid in children(launch.pid) if spawned(pid)]
+    assert len(stages) == 2 and all(children(stage) for stage in stages)  # each its env worker
+    launch.send_signal(signal.SIGINT)
+    assert launch.wait(timeout=120) != 0
+    begin = time.time()  # multiprocessing's resource tracker ends a moment after the launch
+    while [pid for pid in below if Path(f"/proc/{pid}").is_dir()] and time.time() - begin < 10:
+        time.sleep(0.1)
+    assert not [pid for pid in below if Path(f"/proc/{pid}").is_dir()]
+    assert not (run / "teacher_drawer/model_399.pt").exists()

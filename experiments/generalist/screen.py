@@ -16,8 +16,10 @@ counted: a run still training when its pipeline's launches reach it is stopped t
 it is. A distilled candidate trains one teacher per kind, gives a group its own teacher where the
 candidate names one (on its seed) or its kind's teacher missed it (on the next seed, once), then
 distils every group's teacher into one student; the candidate is judged on its last run (the
-student). A candidate whose kept (last) run misses its round's mark (screen_rule.MARKS) is not
-run on the seeds after it.
+student). A staged candidate (`STAGED`) is one launch of the training pipeline that does all of
+this itself (realikea/training/pipeline.py), kept with its stages and judged on its student, the
+launch's own checkpoint. A candidate whose kept (last) run misses its round's mark
+(screen_rule.MARKS) is not run on the seeds after it.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from screen_candidates import (
     ROUND_1,
     ROUNDS,
     SINGLE_RUN,
+    STAGED,
     STUDENT_ITERATIONS,
     TEACHER_ITERATIONS,
     TEACHER_SWITCH,
@@ -64,6 +67,16 @@ def single_run(candidate: str, seed: int) -> QueuedRun:
         run_name(candidate, seed),
         (*COMMON, *overrides, f"env.seed={seed}", f"agent.max_iterations={iterations}"),
         iterations,
+    )
+
+
+def staged_run(candidate: str, seed: int) -> QueuedRun:
+    """One launch training every stage of the candidate's pipeline; its student is its last."""
+    return QueuedRun(
+        run_name(candidate, seed),
+        (*COMMON, *STAGED[candidate], f"env.seed={seed}"),
+        STUDENT_ITERATIONS,
+        staged=True,
     )
 
 
@@ -112,7 +125,9 @@ class Screen:
         self.queue = RunQueue(
             work,
             last_checkpoint,
-            lambda run, seconds: keep_run(work / run.name, kept / run.name, seconds),
+            lambda run, seconds: keep_run(
+                work / run.name, kept / run.name, seconds, staged=run.staged
+            ),
             lambda run: (kept / run.name / "wall.json").is_file(),
             self.over_budget,
             parked,
@@ -149,12 +164,15 @@ class Screen:
     def run(self, runs: list[QueuedRun], dry_run: bool, park: bool) -> int:
         return self.queue.serve(runs, 1, dry_run=dry_run, park=park)
 
-    def single(self, candidate: str, seed: int, mark: float, dry_run: bool, park: bool) -> bool:
-        """Train (or show or park) a single-run candidate on one seed; whether its seeds after
-        this one still run (not once its kept run misses `mark` in some group)."""
-        run = single_run(candidate, seed)
+    def single(self, candidate: str, seed: int, mark: float, dry_run: bool, park: bool,
+               reading: bool = False) -> bool:  # fmt: skip
+        """Train (or show or park) a candidate's one run on one seed (a single run, or a staged
+        candidate's launch); whether its seeds after this one still run (not once its kept run
+        misses `mark` in some group, read as `screen_rule.last_window(..., reading)`)."""
+        run = (staged_run if candidate in STAGED else single_run)(candidate, seed)
         self.stage([run], dry_run, park)
-        if self.queue.kept(run) and not passes(last_window(self.kept_dir / run.name), mark):
+        kept = self.queue.kept(run)
+        if kept and not passes(last_window(self.kept_dir / run.name, reading), mark):
             print(f"{run.name} misses {mark:g} in some group: {candidate} stops at this seed")
             return False
         return True
@@ -210,11 +228,11 @@ def main(argv: list[str]) -> int:
         for candidate in args.candidates or ROUNDS[args.round]:
             for seed in args.seeds:
                 mark, how = MARKS[args.round], (args.dry_run, args.park)
+                reading = args.round in PAD_ENTERS_ROUNDS
                 if candidate in DISTILLED:
-                    reading = args.round in PAD_ENTERS_ROUNDS
                     going = screen.distilled(candidate, seed, mark, reading, *how)
                 else:
-                    going = screen.single(candidate, seed, mark, *how)
+                    going = screen.single(candidate, seed, mark, *how, reading=reading)
                 if not going:
                     break
     return 0

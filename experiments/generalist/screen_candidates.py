@@ -1,6 +1,7 @@
 """The generalist screen's candidates (README.md, "One policy on every seed" and its later
-rounds): each single-run candidate's overrides and iterations, each distilled candidate's stages,
-and the rounds that registered them. `screen.py` trains them.
+rounds): each single-run candidate's overrides and iterations, each distilled candidate's stages
+(run by the screen, or by one staged launch), and the rounds that registered them. `screen.py`
+trains them.
 """
 
 COMMON = ("logger=none",)
@@ -58,6 +59,10 @@ DISTILLED = {  # name -> (overrides every stage adds, {group: (iterations, fixed
     # specialist `fp_doors_rotate` (train_gated.py) of the README's check before round 7
     "distilled_rotate": (("asset.rotate_every=10",), {"finger_pull_door": (1000, 500)}),
 }
+STAGED = {  # name -> the overrides of one launch that trains every stage (training/pipeline.py)
+    # distilled_rotate's stages, the teachers two at a time with one env worker each
+    "distilled_pairs": ("pipeline=distilled_pairs",),
+}
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
     2: ("fp_pregrasp",),
@@ -66,5 +71,6 @@ ROUNDS = {
     5: ("rotate",),
     6: ("rotate_ajar",),
     7: ("distilled_rotate",),
+    8: ("distilled_pairs",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -40,7 +40,8 @@ def mirrored_tag(tag: str) -> str:
 
 class RealIkeaLogWriter(LogWriter):
     """Writes (iteration, tag, value) rows; flushes at every iteration. With `iterations` (this
-    launch's), also shows a progress bar on stderr, headed by `description` if given."""
+    launch's), also shows a progress bar on stderr, headed by `description` if given, on the
+    terminal's `line` (0: the cursor's; processes side by side take a line each)."""
 
     def __init__(
         self,
@@ -49,6 +50,7 @@ class RealIkeaLogWriter(LogWriter):
         project_name: str = "real-ikea",
         iterations: int | None = None,
         description: str | None = None,
+        line: int = 0,
     ):
         if backend not in BACKENDS:
             raise ValueError(f"logger backend {backend!r}: use one of {', '.join(BACKENDS)}")
@@ -62,7 +64,7 @@ class RealIkeaLogWriter(LogWriter):
         self._wandb_row: dict[str, float] = {}  # the iteration's scalars, sent when it ends
         self._wandb_step = None
         self._bar = (
-            tqdm(total=iterations, desc=description, unit="it", dynamic_ncols=True)
+            tqdm(total=iterations, desc=description, unit="it", dynamic_ncols=True, position=line)
             if iterations
             else None
         )

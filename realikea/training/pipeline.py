@@ -4,6 +4,7 @@ teacher where the pipeline names one or its kind's teacher missed it, then every
 distilled into one student, the launch's one checkpoint.
 
     python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
+    python train.py pipeline=distilled_pairs               # the teachers two at a time
     python train.py pipeline=distilled train.resume=RUN    # continue a stopped one in RUN
 
 Why: one PPO policy over the nine groups learns some groups and loses others by seed, whereas
@@ -14,14 +15,24 @@ directory itself, so its metrics.csv and checkpoints are the launch's. A stage w
 checkpoint is there is done; a stopped one continues from its last checkpoint. RUN/stages.json
 records each finished stage: its overrides, the wall seconds of the launch that finished it and
 each group's training success over its last full window (`realikea.training.metrics`).
+
+With `pipeline.stages_at_once` above 1 the teachers train that many at a time, each in its own
+process with `pipeline.side_by_side` on top (one env worker each on two cores), each as soon as
+the stage it needs is done: a kind's teacher-rule teachers need that kind's teacher. Among the
+stages ready, the longest starts first, so the longest does not end the pipeline alone. The
+student trains last, alone, in the launch's own process.
 """
 
 from __future__ import annotations
 
 import json
+import multiprocessing
+import os
 import shutil
+import signal
 import time
 from dataclasses import asdict, dataclass
+from multiprocessing.connection import wait
 from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
@@ -35,7 +46,7 @@ from realikea.training.metrics import last_window
 from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
 
-PIPELINES = ("none", "distilled")
+PIPELINES = ("none", "distilled", "distilled_pairs")
 # launch overrides no stage takes: the pipeline's own keys, its resume folder and its evaluation
 LAUNCH_ONLY = ("pipeline", "train.resume", "train.eval_after")
 # launch overrides a pipeline refuses (every stage sets them) -> the settings to use instead
@@ -49,11 +60,14 @@ STUDENT = "student"
 @dataclass(frozen=True)
 class Stage:
     """One training run of the pipeline: its name (its folder under the run directory; the
-    student's is the run directory), its overrides on top of the launch's, and its length."""
+    student's is the run directory), its overrides on top of the launch's, its length, and the
+    kind and category it teaches (a kind's teacher: no category; the student: neither)."""
 
     name: str
     overrides: tuple[str, ...]
     iterations: int
+    kind: str = ""
+    category: str = ""
 
 
 def pipelined(cfg: DictConfig) -> bool:
@@ -83,6 +97,8 @@ def check_pipeline(cfg: DictConfig) -> None:
             )
     if not 0.0 <= float(pipeline.learned) <= 1.0:
         raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
+    if int(pipeline.stages_at_once) < 1:
+        raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
 
 
 def final_iterations(cfg: DictConfig) -> int:
@@ -105,11 +121,15 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "") -> Stage:
     spec = named or pipeline.teacher
     trained_on = seed + 1 if category and named is None else seed
     scope = (f"asset={category}",) if category else ()
+    beside = tuple(pipeline.side_by_side) if int(pipeline.stages_at_once) > 1 else ()
     return Stage(
         f"teacher_{group or kind}",
         (*scope, f"asset.kind={kind}", f"env.seed={trained_on}",
-         f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}"),
+         f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}",
+         *beside),
         int(spec.iterations),
+        kind,
+        category,
     )  # fmt: skip
 
 
@@ -147,9 +167,7 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
         if any(group_name(c, kind) in groups for c in CATEGORIES):
             check_inputs(stage_config(cfg, launch, teacher_stage(cfg, kind)))
     for group in sorted(set(own_teachers(cfg)) & groups):
-        category, kind = next((c, k) for c in CATEGORIES for k in BASE_KINDS
-                              if group_name(c, k) == group)  # fmt: skip
-        check_inputs(stage_config(cfg, launch, teacher_stage(cfg, kind, category)))
+        check_inputs(stage_config(cfg, launch, teacher_stage(cfg, *kind_and_category(group))))
     return [g for g in GROUPS if g in groups]
 
 
@@ -163,25 +181,56 @@ def check_resume_folder(cfg: DictConfig) -> None:
         )
 
 
+@dataclass
+class Running:
+    """A stage training in its own process: where its progress bar is and when it began."""
+
+    process: multiprocessing.Process
+    line: int
+    begin: float
+    resumed_at: int
+
+
+def train_stage(config: dict, folder: str, label: str, line: int) -> None:
+    """A stage's process: train the stage's config (a plain dict) in `folder`. Its first
+    interrupt stops it (as in a launch of its own) and any later one is ignored, so that a
+    Ctrl-C reaching it and the pipeline's own interrupt do not break its env pool's closing."""
+    signal.signal(signal.SIGINT, interrupt_once)
+    train(OmegaConf.create(config), Path(folder), label, line)
+
+
+def interrupt_once(signum: int, frame) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def longest_first(ready: list[Stage]) -> Stage:
+    """The ready stage to start next: the longest, the first found of equal ones."""
+    return max(ready, key=lambda stage: stage.iterations)
+
+
 class Pipeline:
     """The stages of one launch in its run folder `root`."""
 
     def __init__(self, cfg: DictConfig, launch: list[str], root: Path):
         self.cfg, self.launch, self.root = cfg, launch, Path(root)
         self.started = 0  # stages run or found done so far: the progress bar's stage number
+        self.at_once = int(cfg.pipeline.stages_at_once)
 
     def folder(self, stage: Stage) -> Path:
         return self.root if stage.name == STUDENT else self.root / stage.name
 
-    def run(self, stage: Stage, teachers: dict[str, Path] | None = None) -> Path:
-        """Train the stage (or continue it, or find it done); its last checkpoint."""
+    def prepare(self, stage: Stage, teachers: dict[str, Path] | None) -> tuple:
+        """Ready the stage's folder: (its last checkpoint, or None) if done, else (None, its
+        label, its config resuming its last checkpoint if it has one, that checkpoint's
+        iteration or 0)."""
         self.started += 1
         label = f"stage {self.started} {stage.name}"
         folder = self.folder(stage)
         final = folder / f"model_{stage.iterations - 1}.pt"
         if final.is_file():
             print(f"{label}: done ({final})", flush=True)
-            return final
+            return final, label, None, 0
         stage_cfg = stage_config(self.cfg, self.launch, stage, teachers)
         found = checkpoints(folder) if any(folder.glob("model_*.pt")) else []
         if found:
@@ -194,39 +243,130 @@ class Pipeline:
             shutil.rmtree(folder, ignore_errors=True)
         folder.mkdir(parents=True, exist_ok=True)
         print(f"{label}: {' '.join(stage.overrides)}", flush=True)
-        begin = time.perf_counter()
-        checkpoint = train(stage_cfg, folder, label)
-        self.record(stage, time.perf_counter() - begin, found[-1][0] if found else 0)
+        return None, label, stage_cfg, found[-1][0] if found else 0
+
+    def run(self, stage: Stage, teachers: dict[str, Path] | None = None) -> Path:
+        """Train the stage here (or continue it, or find it done); its last checkpoint."""
+        done, label, stage_cfg, resumed_at = self.prepare(stage, teachers)
+        if done:
+            return done
+        begin = time.time()
+        checkpoint = train(stage_cfg, self.folder(stage), label)
+        self.record(stage, begin, resumed_at)
         return checkpoint
 
-    def record(self, stage: Stage, seconds: float, resumed_at: int) -> None:
-        """Add the finished stage to RUN/stages.json (in place of an earlier record of it)."""
+    def start(self, stage: Stage, line: int) -> Path | Running:
+        """Start the stage in its own process, its progress bar on `line`; or its last
+        checkpoint if it is done."""
+        done, label, stage_cfg, resumed_at = self.prepare(stage, None)
+        if done:
+            return done
+        config = OmegaConf.to_container(stage_cfg)
+        process = multiprocessing.get_context("spawn").Process(
+            target=train_stage, args=(config, str(self.folder(stage)), label, line),
+            name=stage.name,
+        )  # fmt: skip
+        process.start()
+        return Running(process, line, time.time(), resumed_at)
+
+    def finish(self, running: dict[Stage, Running]) -> tuple[Stage, Path]:
+        """Wait for one of the running stages to end; it and its last checkpoint. A stage that
+        fails stops the others and the pipeline, naming it."""
+        ended = wait([job.process.sentinel for job in running.values()])
+        stage, job = next((s, j) for s, j in running.items() if j.process.sentinel in ended)
+        job.process.join()  # its sentinel closes as it exits, a moment before it can be reaped
+        del running[stage]
+        if job.process.exitcode != 0:
+            stop(running)
+            raise RealIkeaError(
+                f"stage {stage.name} stopped with exit code {job.process.exitcode} (its error "
+                f"is printed above; its folder: {self.folder(stage)})"
+            )
+        self.record(stage, job.begin, job.resumed_at)
+        return stage, self.folder(stage) / f"model_{stage.iterations - 1}.pt"
+
+    def record(self, stage: Stage, begin: float, resumed_at: int) -> None:
+        """Add the finished stage to RUN/stages.json (in place of an earlier record of it): its
+        launch's wall seconds, start and end (Unix seconds) and last-window success."""
+        end = time.time()
         path = self.root / STAGES
         stages = json.loads(path.read_text()) if path.is_file() else []
         stages = [s for s in stages if s["name"] != stage.name]
         success = last_window(self.folder(stage))
-        stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(seconds, 1),
+        stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(end - begin, 1),
+                       "began": round(begin, 1), "ended": round(end, 1),
                        "success": {g: v for g, v in success.items() if v is not None}})  # fmt: skip
         atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
 
     def train(self, groups: list[str]) -> Path:
-        """Teachers per kind, own teachers, then the student; the student's last checkpoint."""
-        learned = float(self.cfg.pipeline.learned)
-        own = set(own_teachers(self.cfg))
-        kinds = [k for k in BASE_KINDS if any(group_name(c, k) in groups for c in CATEGORIES)]
-        by_kind = {kind: self.run(teacher_stage(self.cfg, kind)) for kind in kinds}
+        """Every group's teacher, then the student; the student's last checkpoint."""
+        return self.run(student_stage(self.cfg), self.teachers(groups))
+
+    def teachers(self, groups: list[str]) -> dict[str, Path]:
+        """Train the kind teachers and the groups' own ones, `stages_at_once` at a time (here
+        when one), each once the stage it needs is done; each group's teacher."""
+        own = [g for g in own_teachers(self.cfg) if g in groups]
+        ready = [teacher_stage(self.cfg, kind) for kind in BASE_KINDS
+                 if any(group_name(c, kind) in groups for c in CATEGORIES)]  # fmt: skip
+        ready += [teacher_stage(self.cfg, *kind_and_category(group)) for group in own]
         teachers: dict[str, Path] = {}
-        for kind, checkpoint in by_kind.items():
-            success = last_window(checkpoint.parent)
-            for category in CATEGORIES:
-                group = group_name(category, kind)
-                if group not in groups:
-                    continue
-                if group in own or (success[group] or 0.0) < learned:
-                    teachers[group] = self.run(teacher_stage(self.cfg, kind, category))
-                else:
-                    teachers[group] = checkpoint
-        return self.run(student_stage(self.cfg), teachers)
+        running: dict[Stage, Running] = {}
+        try:
+            while ready or running:
+                while ready and len(running) < self.at_once:
+                    stage = longest_first(ready)
+                    ready.remove(stage)
+                    if self.at_once == 1:
+                        ready += self.taught(stage, self.run(stage), groups, teachers)
+                        continue
+                    free = min(set(range(self.at_once)) - {j.line for j in running.values()})
+                    started = self.start(stage, free)
+                    if isinstance(started, Path):
+                        ready += self.taught(stage, started, groups, teachers)
+                    else:
+                        running[stage] = started
+                if running:
+                    stage, checkpoint = self.finish(running)
+                    ready += self.taught(stage, checkpoint, groups, teachers)
+        except BaseException:
+            stop(running)
+            raise
+        return teachers
+
+    def taught(
+        self, stage: Stage, checkpoint: Path, groups: list[str], teachers: dict[str, Path]
+    ) -> list[Stage]:
+        """Note the finished teacher in `teachers` for the groups it teaches; the stages it
+        makes ready (a kind's teacher-rule teachers, for its groups it left below
+        `pipeline.learned`)."""
+        if stage.category:
+            teachers[group_name(stage.category, stage.kind)] = checkpoint
+            return []
+        success, later = last_window(checkpoint.parent), []
+        for category in CATEGORIES:
+            group = group_name(category, stage.kind)
+            if group not in groups or group in own_teachers(self.cfg):
+                continue
+            if (success[group] or 0.0) < float(self.cfg.pipeline.learned):
+                later.append(teacher_stage(self.cfg, stage.kind, category))
+            else:
+                teachers[group] = checkpoint
+        return later
+
+
+def kind_and_category(group: str) -> tuple[str, str]:
+    """A category x kind group's kind and category."""
+    return next((k, c) for c in CATEGORIES for k in BASE_KINDS if group_name(c, k) == group)
+
+
+def stop(running: dict[Stage, Running]) -> None:
+    """Stop the stages' processes by an interrupt (each closes its env pool and exits)."""
+    for job in running.values():
+        if job.process.is_alive():
+            os.kill(job.process.pid, signal.SIGINT)
+    for job in running.values():
+        job.process.join()
+    running.clear()
 
 
 def check_launch(cfg: DictConfig, launch: list[str]) -> list[str]:

@@ -37,9 +37,10 @@ def algorithm_class(agent: DictConfig) -> str:
     return GROUP_PPO if agent.get("group_advantages") else "PPO"
 
 
-def runner_config(cfg: DictConfig, label: str = "") -> dict:
+def runner_config(cfg: DictConfig, label: str = "", line: int = 0) -> dict:
     """The rsl-rl train_cfg dict built from `cfg.agent` and `cfg.logger`; `label` names the
-    launch on its progress bar (a pipeline's stage)."""
+    launch on its progress bar (a pipeline's stage), shown on the terminal's `line` (stages
+    side by side)."""
     agent = cfg.agent
     distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
     if agent.get("min_std") is not None:
@@ -75,6 +76,7 @@ def runner_config(cfg: DictConfig, label: str = "") -> dict:
             **({"project_name": str(cfg.logger.project)} if "project" in cfg.logger else {}),
             **({"iterations": int(agent.max_iterations)} if cfg.train.console == "bar" else {}),
             **({"description": label} if label and cfg.train.console == "bar" else {}),
+            **({"line": line} if line and cfg.train.console == "bar" else {}),
         },
         "check_for_nan": True,
     }
@@ -191,16 +193,16 @@ def env_groups(draw: SuccessFollowingDraw | RotatingDraw | TrainingDraw) -> list
     return [] if isinstance(draw, SuccessFollowingDraw) else [c.group for c in draw.configurations]
 
 
-def train_config(cfg: DictConfig, label: str = "") -> dict:
+def train_config(cfg: DictConfig, label: str = "", line: int = 0) -> dict:
     """rsl-rl's train_cfg: PPO's (`runner_config`), or the distillation's when the run distils
     teachers (`distill.teachers`, checked by `check_inputs`)."""
-    ppo = runner_config(cfg, label)
+    ppo = runner_config(cfg, label, line)
     return distillation_config(cfg, ppo, teacher_paths(cfg)) if distilling(cfg) else ppo
 
 
-def train(cfg: DictConfig, run_dir: Path, label: str = "") -> Path:
+def train(cfg: DictConfig, run_dir: Path, label: str = "", line: int = 0) -> Path:
     """Train for `cfg.agent.max_iterations`; returns the last checkpoint in `run_dir`. `label`
-    names the launch on its progress bar."""
+    names the launch on its progress bar, shown on the terminal's `line`."""
     run_dir = Path(run_dir)
     draw = check_inputs(cfg)
     torch.set_num_threads(int(cfg.train.torch_threads))
@@ -219,7 +221,7 @@ def train(cfg: DictConfig, run_dir: Path, label: str = "") -> Path:
         )
         runner = Runner(
             env,
-            train_config(cfg, label),
+            train_config(cfg, label, line),
             log_dir=str(run_dir),
             device=cfg.train.device,
             infos=checkpoint_infos(cfg),
