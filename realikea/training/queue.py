@@ -172,7 +172,7 @@ class RunQueue:
                 shutil.copy2(folder / "metrics.csv", target_folder / "metrics.csv")
                 last = checkpoints(folder)[-1][1]
                 shutil.copy2(last, target_folder / last.name)
-            if (source / STAGES).is_file():
+            if run.staged and (source / STAGES).is_file():
                 shutil.copy2(source / STAGES, staging / STAGES)
             atomic_write_text(staging / "wall.json", json.dumps(self.wall_times(run)) + "\n")
             shutil.rmtree(target, ignore_errors=True)

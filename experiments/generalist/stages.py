@@ -1,0 +1,59 @@
+"""A staged run's timeline (training/pipeline.py's RUN/stages.json): when each stage began and
+ended, in minutes after the first began, its wall minutes, seconds per iteration and
+last-window training success per group; then the pipeline's span and the stages' summed minutes
+(their ratio: how many trained at once on average).
+
+    python experiments/generalist/stages.py RESULTS/distilled_pairs_s20
+
+A stage resumed in a later launch shows that launch's times (`resumed at`). Exit 0, or 2 on bad
+input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from realikea.training.queue import STAGES
+
+
+def minutes(seconds: float | None) -> str:
+    return "–" if seconds is None else f"{seconds / 60:.1f}"
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run", type=Path, metavar="RUN_DIR", help="a staged run's folder")
+    args = parser.parse_args(argv)
+    path = args.run / STAGES
+    if not path.is_file():
+        print(f"stages.py: no {STAGES} in {args.run}", file=sys.stderr)
+        return 2
+    stages = json.loads(path.read_text())
+    timed = [s for s in stages if "began" in s]
+    start = min((s["began"] for s in timed), default=None)
+    print("| stage | began | ended | min | iterations | s/it | resumed at | success |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|")
+    for s in stages:
+        began = s["began"] - start if "began" in s else None
+        ended = s["ended"] - start if "ended" in s else None
+        per_iteration = s["seconds"] / (s["iterations"] - s["resumed_at"])
+        success = ", ".join(f"{g} {v:.2f}" for g, v in s["success"].items())
+        times = f"{minutes(began)} | {minutes(ended)} | {minutes(s['seconds'])}"
+        print(f"| {s['name']} | {times} | {s['iterations']} | {per_iteration:.2f} | "
+              f"{s['resumed_at']} | {success} |")  # fmt: skip
+    summed = sum(s["seconds"] for s in stages)
+    if timed:
+        span = max(s["ended"] for s in timed) - start
+        print(f"span {minutes(span)} min (first began to last ended, {len(timed)} timed stages); "
+              f"stages' minutes summed {minutes(summed)}; "
+              f"{sum(s['seconds'] for s in timed) / span:.2f} at once on average")  # fmt: skip
+    else:
+        print(f"stages' minutes summed {minutes(summed)} (no stage timed)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
