@@ -5,7 +5,8 @@ The command is the run's own record: Hydra's `.hydra/hydra.yaml` (its command-li
 its `hydra.*` ones), else `.hydra/overrides.yaml`. A run kept before runs carried a record is
 looked up in the study's hand-written `results/checkpoint_commands.yaml` (run folder, relative to
 `results/`, -> command). A resumed launch's record is the launch that wrote the checkpoint; its
-`train.resume=` names where it continued from, also given as `resumed_from`.
+`train.resume=` names where it continued from, also given as `resumed_from`. A stage of a staged
+run (training/pipeline.py: a folder its `stages.json` names) was made by that run's launch.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
+import json
 import shlex
 from pathlib import Path
 
@@ -22,6 +24,7 @@ from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoint_iteration
 from realikea.files import atomic_write_text
 from realikea.policies.checkpoint import load_saved
+from realikea.training.queue import STAGES
 
 MANIFEST = "results/checkpoints.csv"
 COMMANDS = "results/checkpoint_commands.yaml"
@@ -57,16 +60,25 @@ def recorded_overrides(run: Path) -> list[str] | None:
 
 
 def run_command(study: Path, run: Path, commands: dict[str, str]) -> str:
-    """The command that made the run: its Hydra record, else the study's hand-written one."""
+    """The command that made the run: its Hydra record, its staged run's (a stage), else the
+    study's hand-written one."""
     overrides = recorded_overrides(run)
     if overrides is not None:
         return shlex.join(["python", "train.py", *overrides])
+    if run.name in staged_run_stages(run.parent):
+        return run_command(study, run.parent, commands)
     key = run.relative_to(study / "results").as_posix()
     if key not in commands:
         raise RealIkeaError(
             f"{run}: no Hydra record (.hydra/) and no entry '{key}' in {study / COMMANDS}"
         )
     return commands[key]
+
+
+def staged_run_stages(run: Path) -> set[str]:
+    """The stage folders a staged run's stages.json names (none for another folder)."""
+    stages = run / STAGES
+    return {s["name"] for s in json.loads(stages.read_text())} if stages.is_file() else set()
 
 
 def resumed_from(command: str) -> str:
