@@ -196,7 +196,7 @@ def test_round_seven_distils_rotating_teachers_and_a_finger_pull_door_specialist
 def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path):
     """distilled_pairs: round 7's stages in one launch of the pipeline (the teachers two at a
     time), kept with its stages; its student read on channels the pad enters."""
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_pairs",)
+    assert screen.ROUNDS[8] == ("distilled_pairs",)
     assert screen.MARKS[8] == 0.8 and 8 in screen.PAD_ENTERS_ROUNDS
     run = screen.staged_run("distilled_pairs", 21)
     assert run.staged and run.iterations == 200 and run.name == "distilled_pairs_s21"
@@ -211,3 +211,11 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
     assert driver.single("distilled_pairs", 21, 0.8, False, False, reading=True)
     assert not driver.single("distilled_pairs", 21, 0.8, dry_run=False, park=False)  # over all
     assert driver.run.runs == [run] * 3
+
+
+def test_round_nine_gives_knob_doors_their_own_teacher_in_the_staged_launch(screen):
+    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_pairs_knob",)
+    assert screen.MARKS[9] == 0.8 and 9 in screen.PAD_ENTERS_ROUNDS
+    run = screen.staged_run("distilled_pairs_knob", 20)
+    assert run.staged and run.iterations == 200
+    assert set(run.overrides) == {"logger=none", "pipeline=distilled_pairs_knob", "env.seed=20"}

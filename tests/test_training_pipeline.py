@@ -85,6 +85,21 @@ def test_paired_stages_are_round_sevens_with_one_env_worker_per_teacher():
     assert student.env.num_workers is None  # one per core
 
 
+def test_round_nines_knob_door_teacher_is_the_kind_teachers_recipe_on_the_launchs_seed():
+    """pipeline=distilled_pairs_knob: knob doors' own teacher trains from the start, on the
+    launch's seed, as the teacher rule's would on the next; the other stages are round 8's."""
+    knob = load_config([*LAUNCH, "pipeline=distilled_pairs_knob"])
+    pairs = load_config([*LAUNCH, "pipeline=distilled_pairs"])
+    stage = teacher_stage(knob, "door", "knob")
+    by_rule = teacher_stage(pairs, "door", "knob")
+    assert stage.overrides == tuple(
+        "env.seed=20" if o == "env.seed=21" else o for o in by_rule.overrides
+    )
+    for scope in [("drawer",), ("door",), ("door", "finger_pull"), ("flap", "knob")]:
+        assert teacher_stage(knob, *scope) == teacher_stage(pairs, *scope)
+    assert student_stage(knob) == student_stage(pairs)
+
+
 @pytest.mark.parametrize(
     "override, message",
     [

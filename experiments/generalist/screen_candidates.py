@@ -62,6 +62,8 @@ DISTILLED = {  # name -> (overrides every stage adds, {group: (iterations, fixed
 STAGED = {  # name -> the overrides of one launch that trains every stage (training/pipeline.py)
     # distilled_rotate's stages, the teachers two at a time with one env worker each
     "distilled_pairs": ("pipeline=distilled_pairs",),
+    # and knob doors always given their own teacher (realikea/conf/pipeline/)
+    "distilled_pairs_knob": ("pipeline=distilled_pairs_knob",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -72,5 +74,6 @@ ROUNDS = {
     6: ("rotate_ajar",),
     7: ("distilled_rotate",),
     8: ("distilled_pairs",),
+    9: ("distilled_pairs_knob",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

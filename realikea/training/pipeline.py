@@ -41,12 +41,13 @@ from realikea.assets.catalog import BASE_KINDS, CATEGORIES, GROUPS, group_name
 from realikea.config import load_config, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
-from realikea.files import atomic_write_text
+from realikea.files import CONF_DIR, atomic_write_text
 from realikea.training.metrics import last_window
 from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
 
-PIPELINES = ("none", "distilled", "distilled_pairs")
+# the pipeline configs, realikea/conf/pipeline/<name>.yaml
+PIPELINES = tuple(sorted(path.stem for path in (CONF_DIR / "pipeline").glob("*.yaml")))
 # launch overrides no stage takes: the pipeline's own keys, its resume folder and its evaluation
 LAUNCH_ONLY = ("pipeline", "train.resume", "train.eval_after")
 # launch overrides a pipeline refuses (every stage sets them) -> the settings to use instead
