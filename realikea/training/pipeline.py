@@ -16,11 +16,11 @@ checkpoint is there is done; a stopped one continues from its last checkpoint. R
 records each finished stage: its overrides, the wall seconds of the launch that finished it and
 each group's training success over its last full window (`realikea.training.metrics`).
 
-With `pipeline.stages_at_once` above 1 the teachers train that many at a time, each in its own
-process with `pipeline.side_by_side` on top (one env worker each on two cores), each as soon as
-the stage it needs is done: a kind's teacher-rule teachers need that kind's teacher. Among the
-stages ready, the longest starts first, so the longest does not end the pipeline alone. The
-student trains last, alone, in the launch's own process.
+A teacher is ready once the stage it needs is done (a kind's teacher-rule teachers need that
+kind's teacher; the others nothing), and of the ready ones the longest starts first, so that it
+does not end the pipeline alone. With `pipeline.stages_at_once` above 1 the teachers train that
+many at a time, each in its own process with `pipeline.side_by_side` on top (one env worker each
+on two cores). The student trains last, alone, in the launch's own process.
 """
 
 from __future__ import annotations
