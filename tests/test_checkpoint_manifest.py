@@ -87,13 +87,15 @@ def test_the_command_comes_from_hydra_then_the_study_record_else_an_error(tmp_pa
     assert run_command(study, listed, {"old/s0": "python train.py x=1"}) == "python train.py x=1"
     with pytest.raises(RealIkeaError, match="old/s0"):
         run_command(study, listed, {})
-    staged = study / "results/staged"
+    staged = study / "results/staged"  # a pipeline's launch, stopped before any stage ended
     hydra_record(staged, [], ["pipeline=distilled_pairs"])
-    (staged / "stages.json").write_text('[{"name": "teacher_door"}]')
-    (staged / "teacher_door").mkdir(), (staged / "teacher_flap").mkdir()
+    (staged / "teacher_door").mkdir()
     assert run_command(study, staged / "teacher_door", {}) == run_command(study, staged, {})
-    with pytest.raises(RealIkeaError, match="staged/teacher_flap"):  # a stage it does not name
-        run_command(study, staged / "teacher_flap", {})
+    single = study / "results/single"
+    hydra_record(single, [], ["pipeline=none"])
+    (single / "teacher_door").mkdir()
+    with pytest.raises(RealIkeaError, match="single/teacher_door"):  # not a staged run's stage
+        run_command(study, single / "teacher_door", {})
 
 
 def test_the_manifest_records_sha_resume_source_and_whether_training_resumes(tmp_path):

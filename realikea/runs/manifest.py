@@ -6,7 +6,8 @@ its `hydra.*` ones), else `.hydra/overrides.yaml`. A run kept before runs carrie
 looked up in the study's hand-written `results/checkpoint_commands.yaml` (run folder, relative to
 `results/`, -> command). A resumed launch's record is the launch that wrote the checkpoint; its
 `train.resume=` names where it continued from, also given as `resumed_from`. A stage of a staged
-run (training/pipeline.py: a folder its `stages.json` names) was made by that run's launch.
+run (training/pipeline.py: a folder of a run that holds stages.json or was launched with a
+`pipeline=`) was made by that run's launch.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from __future__ import annotations
 import csv
 import hashlib
 import io
-import json
 import shlex
 from pathlib import Path
 
@@ -65,7 +65,7 @@ def run_command(study: Path, run: Path, commands: dict[str, str]) -> str:
     overrides = recorded_overrides(run)
     if overrides is not None:
         return shlex.join(["python", "train.py", *overrides])
-    if run.name in staged_run_stages(run.parent):
+    if staged_run(run.parent):
         return run_command(study, run.parent, commands)
     key = run.relative_to(study / "results").as_posix()
     if key not in commands:
@@ -75,10 +75,12 @@ def run_command(study: Path, run: Path, commands: dict[str, str]) -> str:
     return commands[key]
 
 
-def staged_run_stages(run: Path) -> set[str]:
-    """The stage folders a staged run's stages.json names (none for another folder)."""
-    stages = run / STAGES
-    return {s["name"] for s in json.loads(stages.read_text())} if stages.is_file() else set()
+def staged_run(run: Path) -> bool:
+    """Whether the folder is a staged run's (its stages.json, or a launch of a pipeline), whose
+    folders are its stages."""
+    launched = recorded_overrides(run) or []
+    pipeline = any(o.startswith("pipeline=") and o != "pipeline=none" for o in launched)
+    return (run / STAGES).is_file() or pipeline
 
 
 def resumed_from(command: str) -> str:
