@@ -88,11 +88,13 @@ def test_the_command_comes_from_hydra_then_the_study_record_else_an_error(tmp_pa
     with pytest.raises(RealIkeaError, match="old/s0"):
         run_command(study, listed, {})
     staged = study / "results/staged"  # a pipeline's launch, stopped before any stage ended
-    hydra_record(staged, [], ["pipeline=distilled_pairs"])
+    hydra_record(staged, [], ["env.seed=20"])
+    (staged / ".hydra/config.yaml").write_text("pipeline: {name: distilled_pairs}\n")
     (staged / "teacher_door").mkdir()
     assert run_command(study, staged / "teacher_door", {}) == run_command(study, staged, {})
     single = study / "results/single"
-    hydra_record(single, [], ["pipeline=none"])
+    hydra_record(single, [], ["env.seed=20"])
+    (single / ".hydra/config.yaml").write_text("pipeline: {name: none}\n")
     (single / "teacher_door").mkdir()
     with pytest.raises(RealIkeaError, match="single/teacher_door"):  # not a staged run's stage
         run_command(study, single / "teacher_door", {})

@@ -6,8 +6,8 @@ its `hydra.*` ones), else `.hydra/overrides.yaml`. A run kept before runs carrie
 looked up in the study's hand-written `results/checkpoint_commands.yaml` (run folder, relative to
 `results/`, -> command). A resumed launch's record is the launch that wrote the checkpoint; its
 `train.resume=` names where it continued from, also given as `resumed_from`. A stage of a staged
-run (training/pipeline.py: a folder of a run that holds stages.json or was launched with a
-`pipeline=`) was made by that run's launch.
+run (training/pipeline.py: a folder of a run that holds stages.json or whose recorded config
+names a pipeline) was made by that run's launch.
 """
 
 from __future__ import annotations
@@ -76,11 +76,13 @@ def run_command(study: Path, run: Path, commands: dict[str, str]) -> str:
 
 
 def staged_run(run: Path) -> bool:
-    """Whether the folder is a staged run's (its stages.json, or a launch of a pipeline), whose
-    folders are its stages."""
-    launched = recorded_overrides(run) or []
-    pipeline = any(o.startswith("pipeline=") and o != "pipeline=none" for o in launched)
-    return (run / STAGES).is_file() or pipeline
+    """Whether the folder is a staged run's (its stages.json, or its recorded config names a
+    pipeline, whether chosen on the command line or by a default), whose folders are its
+    stages."""
+    config = run / ".hydra/config.yaml"
+    recorded = (yaml.safe_load(config.read_text()) or {}) if config.is_file() else {}
+    pipeline = (recorded.get("pipeline") or {}).get("name", "none")
+    return (run / STAGES).is_file() or pipeline != "none"
 
 
 def resumed_from(command: str) -> str:
