@@ -45,8 +45,10 @@ from screen_candidates import (
 from screen_rule import LEARNED, MARKS, PAD_ENTERS_ROUNDS, last_window, passes
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, group_name
+from realikea.config import load_config
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
+from realikea.training.pipeline import final_iterations
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 HERE = Path(__file__).resolve().parent
@@ -71,13 +73,11 @@ def single_run(candidate: str, seed: int) -> QueuedRun:
 
 
 def staged_run(candidate: str, seed: int) -> QueuedRun:
-    """One launch training every stage of the candidate's pipeline; its student is its last."""
-    return QueuedRun(
-        run_name(candidate, seed),
-        (*COMMON, *STAGED[candidate], f"env.seed={seed}"),
-        STUDENT_ITERATIONS,
-        staged=True,
-    )
+    """One launch training every stage of the candidate's pipeline; its student is its last,
+    as long as the composed pipeline says."""
+    overrides = (*COMMON, *STAGED[candidate], f"env.seed={seed}")
+    iterations = final_iterations(load_config(overrides))
+    return QueuedRun(run_name(candidate, seed), overrides, iterations, staged=True)
 
 
 def teacher_run(candidate: str, seed: int, kind: str, category: str = "") -> QueuedRun:
