@@ -213,9 +213,11 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
     assert driver.run.runs == [run] * 3
 
 
-def test_round_nine_gives_knob_doors_their_own_teacher_in_the_staged_launch(screen):
-    assert screen.ROUNDS[max(screen.ROUNDS)] == ("distilled_pairs_knob",)
-    assert screen.MARKS[9] == 0.8 and 9 in screen.PAD_ENTERS_ROUNDS
-    run = screen.staged_run("distilled_pairs_knob", 20)
+@pytest.mark.parametrize("round_, candidate", [(9, "distilled_pairs_knob"),
+                                               (10, "distilled_pairs_retry")])  # fmt: skip
+def test_rounds_nine_and_ten_are_staged_launches_of_their_pipelines(screen, round_, candidate):
+    assert screen.ROUNDS[round_] == (candidate,)
+    assert screen.MARKS[round_] == 0.8 and round_ in screen.PAD_ENTERS_ROUNDS
+    run = screen.staged_run(candidate, 20)
     assert run.staged and run.iterations == 200
-    assert set(run.overrides) == {"logger=none", "pipeline=distilled_pairs_knob", "env.seed=20"}
+    assert set(run.overrides) == {"logger=none", f"pipeline={candidate}", "env.seed=20"}

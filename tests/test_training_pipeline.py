@@ -15,13 +15,16 @@ import pytest
 from conftest import SMALL_RUN
 from omegaconf import OmegaConf
 
+from realikea.assets.catalog import GROUPS
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy
 from realikea.training.pipeline import (
+    Pipeline,
     check_launch,
     check_pipeline,
+    longest_first,
     stage_config,
     student_stage,
     teacher_stage,
@@ -100,6 +103,94 @@ def test_round_nines_knob_door_teacher_is_the_kind_teachers_recipe_on_the_launch
     assert student_stage(knob) == student_stage(pairs)
 
 
+def test_round_tens_stages_are_round_nines_plus_a_retrain_on_the_next_seed():
+    """pipeline=distilled_pairs_retry: round 9's stages; a named group teacher's retrain is the
+    same recipe on the next seed, in a folder of its own."""
+    retry = load_config([*LAUNCH, "pipeline=distilled_pairs_retry"])
+    knob = load_config([*LAUNCH, "pipeline=distilled_pairs_knob"])
+    scopes = [("drawer",), ("door",), ("door", "finger_pull"), ("door", "knob"), ("flap", "knob")]
+    for scope in scopes:
+        assert teacher_stage(retry, *scope) == teacher_stage(knob, *scope)
+    assert student_stage(retry) == student_stage(knob)
+    first, again = teacher_stage(retry, "door", "knob"), teacher_stage(retry, "door", "knob", True)
+    assert again.name == "teacher_knob_door_retrain" and again.iterations == first.iterations
+    assert again.overrides == tuple(
+        "env.seed=21" if o == "env.seed=20" else o for o in first.overrides
+    )
+
+
+def log_success(folder: Path, group: str, rate: float) -> Path:
+    """A stage folder whose metrics log `rate` for the group over one full window; its
+    checkpoint's path."""
+    folder.mkdir(parents=True)
+    rows = [f"{i},/success/{group},{rate}" for i in range(25)]
+    (folder / "metrics.csv").write_text("\n".join(["iteration,tag,value", *rows]) + "\n")
+    return folder / "model_399.pt"
+
+
+@pytest.mark.parametrize("pipeline, rate, retrained", [
+    ("distilled_pairs_retry", 0.0, True),
+    ("distilled_pairs_retry", 0.5, False),  # the teacher rule's mark is met
+    ("distilled_pairs_knob", 0.0, False),  # round 9: no retrain
+])  # fmt: skip
+def test_a_named_group_teacher_below_the_teacher_rule_is_retrained_once(
+    tmp_path, pipeline, rate, retrained
+):
+    cfg = load_config([*LAUNCH, f"pipeline={pipeline}"])
+    line = Pipeline(cfg, LAUNCH, tmp_path)
+    first, again = teacher_stage(cfg, "door", "knob"), teacher_stage(cfg, "door", "knob", True)
+    teachers = {}
+    checkpoint = log_success(tmp_path / first.name, "knob_door", rate)
+    assert line.taught(first, checkpoint, ["knob_door"], teachers) == ([again] if retrained else [])
+    assert teachers == {"knob_door": checkpoint}
+    if retrained:  # the retrain replaces the first, and is not retrained again
+        checkpoint = log_success(tmp_path / again.name, "knob_door", 0.0)
+        assert line.taught(again, checkpoint, ["knob_door"], teachers) == []
+        assert teachers == {"knob_door": checkpoint}
+
+
+@pytest.mark.parametrize("alone_all_workers", [True, False])
+def test_a_teacher_that_will_train_alone_takes_the_launchs_workers(
+    tmp_path, monkeypatch, alone_all_workers
+):
+    """pipeline.alone_all_workers: a teacher started with none running and none ready drops
+    `side_by_side` (env.num_workers=1); the others keep it. Each stage is found done at once."""
+    launch = [
+        *LAUNCH,
+        "pipeline=distilled_pairs_retry",
+        f"pipeline.alone_all_workers={alone_all_workers}",
+    ]
+    started = []
+
+    def done(self, stage, line):
+        started.append(stage)
+        return log_success(tmp_path / stage.name, "knob_door", 1.0)
+
+    monkeypatch.setattr(Pipeline, "start", done)
+    monkeypatch.setattr(
+        "realikea.training.pipeline.last_window", lambda run: dict.fromkeys(GROUPS, 1.0)
+    )
+    Pipeline(load_config(launch), launch, tmp_path).teachers(list(GROUPS))
+    assert [s.name for s in started] == [
+        "teacher_finger_pull_door",
+        "teacher_knob_door",
+        "teacher_drawer",
+        "teacher_door",
+        "teacher_flap",
+    ]
+    one_worker = ["env.num_workers=1" in s.overrides for s in started]
+    assert one_worker == [True, True, True, True, not alone_all_workers]
+
+
+def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
+    cfg = load_config([*LAUNCH, "pipeline=distilled_pairs_retry"])
+    kinds = [teacher_stage(cfg, kind) for kind in ("drawer", "door", "flap")]
+    knob, specialist = teacher_stage(cfg, "door", "knob"), teacher_stage(cfg, "door", "finger_pull")
+    assert longest_first([*kinds, knob, specialist]) == specialist  # 1,000 iterations
+    assert longest_first([*kinds, knob]) == knob
+    assert longest_first(kinds) == kinds[0]
+
+
 @pytest.mark.parametrize(
     "override, message",
     [
@@ -108,6 +199,8 @@ def test_round_nines_knob_door_teacher_is_the_kind_teachers_recipe_on_the_launch
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),
+        ("pipeline.retrain_own=sometimes", "pipeline.retrain_own=sometimes: use true or false"),
+        ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
     ],
 )  # fmt: skip
 def test_bad_settings_are_refused_naming_the_key(override, message):
@@ -159,7 +252,9 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     assert final == run / "model_1.pt"
     stages = json.loads((run / "stages.json").read_text())
     own = ["teacher_two_point_drawer", "teacher_two_point_door", "teacher_two_point_flap"]
-    names = ["teacher_drawer", "teacher_door", "teacher_flap", *own, "student"]
+    # a group's teacher, ready once its kind's is done, goes before the next kind's
+    names = [n for kind, group in zip(("drawer", "door", "flap"), own, strict=True)
+             for n in (f"teacher_{kind}", group)] + ["student"]  # fmt: skip
     assert [s["name"] for s in stages] == names
     assert all("env.seed=1" in s["overrides"] for s in stages if s["name"] in own)
     routed = CheckpointPolicy(final).run_cfg.distill.teachers
@@ -236,7 +331,11 @@ def test_an_interrupted_pipeline_stops_its_stages_processes(tmp_path):
     command = [sys.executable, str(WORKSPACE / "train.py"), "pipeline=distilled_pairs", *small,
                "pipeline.teacher.iterations=400", f"paths.library={tmp_path / 'lib'}",
                f"hydra.run.dir={run}"]  # fmt: skip
-    launch = subprocess.Popen(command, cwd=WORKSPACE, stdout=subprocess.PIPE, text=True)
+    # SIGINT's default disposition: a suite started in the background (`&`, nohup) passes it on
+    # as ignored, and the launch would never see the interrupt
+    default = lambda: signal.signal(signal.SIGINT, signal.SIG_DFL)  # noqa: E731
+    launch = subprocess.Popen(command, cwd=WORKSPACE, stdout=subprocess.PIPE, text=True,
+                              preexec_fn=default)  # fmt: skip
     begin = time.time()
     while time.time() - begin < 120:  # both teachers have logged an iteration
         logged = [run / f"teacher_{k}/metrics.csv" for k in ("drawer", "door")]

@@ -64,6 +64,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs": ("pipeline=distilled_pairs",),
     # and knob doors always given their own teacher (realikea/conf/pipeline/)
     "distilled_pairs_knob": ("pipeline=distilled_pairs_knob",),
+    # and a group's own teacher that misses the teacher rule trains again on the next seed
+    "distilled_pairs_retry": ("pipeline=distilled_pairs_retry",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -75,5 +77,6 @@ ROUNDS = {
     7: ("distilled_rotate",),
     8: ("distilled_pairs",),
     9: ("distilled_pairs_knob",),
+    10: ("distilled_pairs_retry",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -1,7 +1,8 @@
 """One policy for a draw over several category x kind groups, trained in stages
 (`pipeline=distilled`, realikea/conf/pipeline/distilled.yaml): a teacher per kind, a group's own
-teacher where the pipeline names one or its kind's teacher missed it, then every group's teacher
-distilled into one student, the launch's one checkpoint.
+teacher where the pipeline names one or its kind's teacher missed it (and, with
+`pipeline.retrain_own`, a named one again on the next seed where it missed), then every group's
+teacher distilled into one student, the launch's one checkpoint.
 
     python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
     python train.py pipeline=distilled_pairs               # the teachers two at a time
@@ -17,10 +18,14 @@ records each finished stage: its overrides, the wall seconds of the launch that 
 each group's training success over its last full window (`realikea.training.metrics`).
 
 A teacher is ready once the stage it needs is done (a kind's teacher-rule teachers need that
-kind's teacher; the others nothing), and of the ready ones the longest starts first, so that it
-does not end the pipeline alone. With `pipeline.stages_at_once` above 1 the teachers train that
+kind's teacher, a retrained one the group's first; the others nothing), and of the ready ones
+the longest starts first, so that it does not end the pipeline alone; among equal ones a
+group's own teacher goes before a kind's, so that a retrain it may need starts while other
+teachers still run. With `pipeline.stages_at_once` above 1 the teachers train that
 many at a time, each in its own process with `pipeline.side_by_side` on top (one env worker each
-on two cores). The student trains last, alone, in the launch's own process.
+on two cores); with `pipeline.alone_all_workers`, a teacher that starts with none running and
+none ready trains alone to its end, so it takes the launch's workers instead. The student
+trains last, alone, in the launch's own process.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ import os
 import shutil
 import signal
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from multiprocessing.connection import wait
 from pathlib import Path
 
@@ -56,6 +61,7 @@ STAGE_SET = {
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
 }
 STUDENT = "student"
+RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
 
 
 @dataclass(frozen=True)
@@ -98,6 +104,9 @@ def check_pipeline(cfg: DictConfig) -> None:
             )
     if not 0.0 <= float(pipeline.learned) <= 1.0:
         raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
+    for key in ("retrain_own", "alone_all_workers"):
+        if not isinstance(pipeline[key], bool):
+            raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
         raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
 
@@ -113,18 +122,19 @@ def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
     return {str(entry.group): entry for entry in cfg.pipeline.own_teachers or []}
 
 
-def teacher_stage(cfg: DictConfig, kind: str, category: str = "") -> Stage:
+def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
     """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
-    seed where the pipeline names it, else (its kind's teacher missed it) on the next seed."""
+    seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
+    named one did) on the next seed."""
     pipeline, seed = cfg.pipeline, int(cfg.env.seed)
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
     spec = named or pipeline.teacher
-    trained_on = seed + 1 if category and named is None else seed
+    trained_on = seed + 1 if category and (named is None or retrain) else seed
     scope = (f"asset={category}",) if category else ()
     beside = tuple(pipeline.side_by_side) if int(pipeline.stages_at_once) > 1 else ()
     return Stage(
-        f"teacher_{group or kind}",
+        f"teacher_{group or kind}{RETRAIN if retrain else ''}",
         (*scope, f"asset.kind={kind}", f"env.seed={trained_on}",
          f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}",
          *beside),
@@ -205,9 +215,16 @@ def interrupt_once(signum: int, frame) -> None:
     raise KeyboardInterrupt
 
 
+def alone(cfg: DictConfig, stage: Stage) -> Stage:
+    """The stage without `pipeline.side_by_side`, so with the launch's env workers."""
+    beside = set(cfg.pipeline.side_by_side)
+    return replace(stage, overrides=tuple(o for o in stage.overrides if o not in beside))
+
+
 def longest_first(ready: list[Stage]) -> Stage:
-    """The ready stage to start next: the longest, the first found of equal ones."""
-    return max(ready, key=lambda stage: stage.iterations)
+    """The ready stage to start next: the longest; of equal ones a group's own teacher, then
+    the first found."""
+    return max(ready, key=lambda stage: (stage.iterations, bool(stage.category)))
 
 
 class Pipeline:
@@ -317,6 +334,8 @@ class Pipeline:
                 while ready and len(running) < self.at_once:
                     stage = longest_first(ready)
                     ready.remove(stage)
+                    if not ready and not running and self.cfg.pipeline.alone_all_workers:
+                        stage = alone(self.cfg, stage)  # nothing can start before it ends
                     if self.at_once == 1:
                         ready += self.taught(stage, self.run(stage), groups, teachers)
                         continue
@@ -338,21 +357,30 @@ class Pipeline:
         self, stage: Stage, checkpoint: Path, groups: list[str], teachers: dict[str, Path]
     ) -> list[Stage]:
         """Note the finished teacher in `teachers` for the groups it teaches; the stages it
-        makes ready (a kind's teacher-rule teachers, for its groups it left below
-        `pipeline.learned`)."""
+        makes ready: a kind's teacher-rule teachers, for its groups it left below
+        `pipeline.learned`, or a named group teacher's retrain if it left its group there."""
+        success = last_window(checkpoint.parent)
         if stage.category:
-            teachers[group_name(stage.category, stage.kind)] = checkpoint
-            return []
-        success, later = last_window(checkpoint.parent), []
+            group = group_name(stage.category, stage.kind)
+            teachers[group] = checkpoint
+            retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
+            first_own = group in own_teachers(self.cfg) and stage.name != retrain.name
+            again = self.cfg.pipeline.retrain_own and first_own and self.missed(success, group)
+            return [retrain] if again else []
+        later = []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
             if group not in groups or group in own_teachers(self.cfg):
                 continue
-            if (success[group] or 0.0) < float(self.cfg.pipeline.learned):
+            if self.missed(success, group):
                 later.append(teacher_stage(self.cfg, stage.kind, category))
             else:
                 teachers[group] = checkpoint
         return later
+
+    def missed(self, success: dict[str, float | None], group: str) -> bool:
+        """Whether a teacher left the group below `pipeline.learned` (no full window: 0)."""
+        return (success[group] or 0.0) < float(self.cfg.pipeline.learned)
 
 
 def kind_and_category(group: str) -> tuple[str, str]:
