@@ -31,6 +31,18 @@ def test_two_stages_side_by_side_then_one_show_their_overlap(stages, tmp_path, c
     assert "span 30.0 min" in out and "stages' minutes summed 40.0; 1.33 at once" in out
 
 
+def test_a_gap_between_launches_is_not_counted_as_training(stages, tmp_path, capsys):
+    """A parked run: its last stages resumed an hour after the first ended."""
+    records = [stage("teacher_drawer", 0, 600), stage("teacher_door", 4200, 4800, resumed_at=200),
+               stage("teacher_flap", 4500, 5400)]  # fmt: skip
+    (tmp_path / "stages.json").write_text(json.dumps(records))
+    assert stages.main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    # 35 stage-minutes while some stage trained: 10 + 20 of a 90-minute span
+    assert "span 90.0 min" in out and "30.0 min of it with a stage training" in out
+    assert "stages' minutes summed 35.0; 1.17 at once" in out
+
+
 def test_a_folder_without_stages_is_refused(stages, tmp_path, capsys):
     assert stages.main([str(tmp_path)]) == 2
     assert "no stages.json in" in capsys.readouterr().err

@@ -1,12 +1,14 @@
 """A staged run's timeline (training/pipeline.py's RUN/stages.json): when each stage began and
 ended, in minutes after the first began, its wall minutes, seconds per iteration and
-last-window training success per group; then the pipeline's span and the stages' summed minutes
-(their ratio: how many trained at once on average).
+last-window training success per group; then the pipeline's span, the minutes of it with some
+stage training (a parked run's gap between launches is not) and the stages' summed minutes
+(their ratio to the former: how many trained at once on average).
 
     python experiments/generalist/stages.py RESULTS/distilled_pairs_s20
 
-A stage resumed in a later launch shows that launch's times (`resumed at`). Exit 0, or 2 on bad
-input.
+A stage resumed in a later launch shows that launch's times (`resumed at`): its minutes in an
+earlier launch are in no figure here, the launches' wall time (wall.json) has them. Exit 0, or 2
+on bad input.
 """
 
 from __future__ import annotations
@@ -21,6 +23,15 @@ from realikea.training.queue import STAGES
 
 def minutes(seconds: float | None) -> str:
     return "–" if seconds is None else f"{seconds / 60:.1f}"
+
+
+def busy(intervals: list[tuple[float, float]]) -> float:
+    """The length of the union of (start, end) intervals."""
+    total, reach = 0.0, float("-inf")
+    for start, end in sorted(intervals):
+        total += max(0.0, end - max(start, reach))
+        reach = max(reach, end)
+    return total
 
 
 def main(argv: list[str]) -> int:
@@ -47,9 +58,11 @@ def main(argv: list[str]) -> int:
     summed = sum(s["seconds"] for s in stages)
     if timed:
         span = max(s["ended"] for s in timed) - start
-        print(f"span {minutes(span)} min (first began to last ended, {len(timed)} timed stages); "
+        training = busy([(s["began"], s["ended"]) for s in timed])
+        print(f"span {minutes(span)} min (first began to last ended, {len(timed)} timed stages), "
+              f"{minutes(training)} min of it with a stage training; "
               f"stages' minutes summed {minutes(summed)}; "
-              f"{sum(s['seconds'] for s in timed) / span:.2f} at once on average")  # fmt: skip
+              f"{sum(s['seconds'] for s in timed) / training:.2f} at once on average")  # fmt: skip
     else:
         print(f"stages' minutes summed {minutes(summed)} (no stage timed)")
     return 0
