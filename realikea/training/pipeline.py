@@ -359,15 +359,14 @@ class Pipeline:
         """Note the finished teacher in `teachers` for the groups it teaches; the stages it
         makes ready: a kind's teacher-rule teachers, for its groups it left below
         `pipeline.learned`, or a named group teacher's retrain if it left its group there."""
-        success = last_window(checkpoint.parent)
         if stage.category:
             group = group_name(stage.category, stage.kind)
             teachers[group] = checkpoint
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
             first_own = group in own_teachers(self.cfg) and stage.name != retrain.name
-            again = self.cfg.pipeline.retrain_own and first_own and self.missed(success, group)
-            return [retrain] if again else []
-        later = []
+            again = self.cfg.pipeline.retrain_own and first_own
+            return [retrain] if again and self.missed(last_window(checkpoint.parent), group) else []
+        success, later = last_window(checkpoint.parent), []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
             if group not in groups or group in own_teachers(self.cfg):
