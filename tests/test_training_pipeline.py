@@ -119,6 +119,23 @@ def test_round_tens_stages_are_round_nines_plus_a_retrain_on_the_next_seed():
     )
 
 
+def test_round_elevens_stages_are_round_tens_with_knob_doors_teacher_twice_as_long():
+    """pipeline=distilled_pairs_long_knob: round 10's stages and retrain rule; knob doors' own
+    teacher (and so its retrain) trains 800 iterations, poses fixed to 400."""
+    long_knob = load_config([*LAUNCH, "pipeline=distilled_pairs_long_knob"])
+    retry = load_config([*LAUNCH, "pipeline=distilled_pairs_retry"])
+    for scope in [("drawer",), ("door",), ("door", "finger_pull"), ("flap", "knob")]:
+        assert teacher_stage(long_knob, *scope) == teacher_stage(retry, *scope)
+    assert student_stage(long_knob) == student_stage(retry)
+    assert long_knob.pipeline.retrain_own and long_knob.pipeline.alone_all_workers
+    for retrain in (False, True):
+        stage, before = (teacher_stage(c, "door", "knob", retrain) for c in (long_knob, retry))
+        assert stage.iterations == 800 and before.iterations == 400
+        swap = {"agent.max_iterations=400": "agent.max_iterations=800",
+                "dr.switch_iteration=200": "dr.switch_iteration=400"}  # fmt: skip
+        assert stage.overrides == tuple(swap.get(o, o) for o in before.overrides)
+
+
 def log_success(folder: Path, group: str, rate: float) -> Path:
     """A stage folder whose metrics log `rate` for the group over one full window; its
     checkpoint's path."""

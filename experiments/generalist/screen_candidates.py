@@ -66,6 +66,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_knob": ("pipeline=distilled_pairs_knob",),
     # and a group's own teacher that misses the teacher rule trains again on the next seed
     "distilled_pairs_retry": ("pipeline=distilled_pairs_retry",),
+    # and knob doors' own teacher twice as long (800 iterations, poses fixed to 400)
+    "distilled_pairs_long_knob": ("pipeline=distilled_pairs_long_knob",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -78,5 +80,6 @@ ROUNDS = {
     8: ("distilled_pairs",),
     9: ("distilled_pairs_knob",),
     10: ("distilled_pairs_retry",),
+    11: ("distilled_pairs_long_knob",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
