@@ -136,6 +136,29 @@ def test_round_elevens_stages_are_round_tens_with_knob_doors_teacher_twice_as_lo
         assert stage.overrides == tuple(swap.get(o, o) for o in before.overrides)
 
 
+def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
+    """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
+    seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""
+    gated = load_script("experiments/generalist/train_gated.py")
+    launch = [*LAUNCH, "pipeline=distilled_pairs_retry"]
+    cfg = load_config(launch)
+    stage = teacher_stage(cfg, "door", "knob")
+    teacher = without_pipeline(stage_config(cfg, launch, stage))
+    run = gated.generalist_run("knob_doors_rotate", 20)
+    check = without_pipeline(load_config(run.overrides))
+    assert check["agent"].pop("save_interval") == 25
+    teacher["agent"].pop("save_interval")
+    assert check == teacher and run.iterations == stage.iterations
+    fixed = without_pipeline(load_config(gated.generalist_run("knob_doors_fixed_lr", 20).overrides))
+    fixed["agent"].pop("save_interval")
+    assert fixed["agent"].pop("algorithm") == {
+        **check["agent"].pop("algorithm"),
+        "schedule": "fixed",
+        "learning_rate": 3e-4,
+    }
+    assert fixed == check
+
+
 def log_success(folder: Path, group: str, rate: float) -> Path:
     """A stage folder whose metrics log `rate` for the group over one full window; its
     checkpoint's path."""

@@ -11,7 +11,8 @@ iterations); `hull_high` the design card's `python train.py collision=hull resis
 `default_follow` the default with a draw that follows training success
 (`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations);
 `fp_doors_rotate` finger-pull door specialists taking turns over the group's configurations
-(`asset.rotate_every`, 1,000 iterations).
+(`asset.rotate_every`, 1,000 iterations); `knob_doors_rotate` knob doors' own teacher of the
+screen's pipelines, and `knob_doors_fixed_lr` the same at a fixed learning rate (400 iterations).
 Each run gets one env worker (two side by side on the 2 cores). Then evaluate each kept
 checkpoint on the test parts with `evaluate.py` (and, for hull_high, also on its own geometry:
 `evaluate.py CHECKPOINT hull_high/s0_own collision=hull --modes high`).
@@ -30,6 +31,16 @@ from realikea.training.queue import QueuedRun, RunQueue, keep_run
 RESULTS = WORKSPACE / "experiments/generalist/results"
 WORK = WORKSPACE / "outputs/generalist"
 ITERATIONS = 1500  # the defaults' agent.max_iterations
+# knob doors' own teacher as the screen's pipelines train it (every_stage and own_teachers of
+# realikea/conf/pipeline/distilled.yaml and distilled_pairs_knob.yaml), but the seed
+KNOB_TEACHER = [
+    "agent=ppo",
+    "asset.rotate_every=10",
+    "asset=knob",
+    "asset.kind=door",
+    "agent.max_iterations=400",
+    "dr.switch_iteration=200",
+]
 # the variants below were run, and stay, on the single-task agent (agent=ppo), the default of
 # their day; `default` and `hull_high` are whatever python train.py's defaults are
 RECIPES = {
@@ -60,8 +71,23 @@ RECIPES = {
         "agent.max_iterations=1000",
         "dr.switch_iteration=500",
     ],
+    # knob doors' own teacher of the screen's rounds 9-10 (realikea/conf/pipeline/), run on its
+    # own: how often a seed learns it (README, "A knob-door teacher over seeds")
+    "knob_doors_rotate": KNOB_TEACHER,
+    # the same at a fixed rate of 3e-4, the adopted multi-task agent's, not the adaptive one
+    "knob_doors_fixed_lr": [
+        *KNOB_TEACHER,
+        "agent.algorithm.schedule=fixed",
+        "agent.algorithm.learning_rate=3e-4",
+    ],
 }
-SHORTER = {"doors": 600, "fp_doors_rotate": 1000}  # recipes shorter than ITERATIONS
+# recipes shorter than ITERATIONS
+SHORTER = {
+    "doors": 600,
+    "fp_doors_rotate": 1000,
+    "knob_doors_rotate": 400,
+    "knob_doors_fixed_lr": 400,
+}
 
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
