@@ -4,6 +4,7 @@ metrics, the launches' wall times, the Hydra config, the learning curve).
 
     python experiments/generalist/train_gated.py                      # every run not yet kept
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
+    python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --park  # into git
 
 Recipes: `default` is `python train.py` (CoACD, normal, every category and kind, 1,500
 iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`;
@@ -117,7 +118,9 @@ def kept(run: QueuedRun) -> bool:
     return (kept_dir(run) / last_checkpoint(run)).is_file()
 
 
-QUEUE = RunQueue(WORK, last_checkpoint, keep, kept)
+# a session's stopped runs, for a later machine to resume (`--park`; in git)
+PARKED = RESULTS / "gated_parked"
+QUEUE = RunQueue(WORK, last_checkpoint, keep, kept, parked=PARKED)
 
 
 def main() -> int:
@@ -128,14 +131,12 @@ def main() -> int:
     parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1])
     parser.add_argument("--jobs", type=int, default=2, help="runs side by side (2 cores: 2)")
     parser.add_argument("--dry-run", action="store_true", help="print the commands only")
+    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
     args = parser.parse_args()
     if any(s < 0 for s in args.seeds):
         parser.error(f"seeds must be >= 0, got {args.seeds}")
     runs = [generalist_run(r, s) for s in args.seeds for r in args.recipes]
-    if args.dry_run:
-        QUEUE.show(runs)
-        return 0
-    return QUEUE.run_all(runs, args.jobs)
+    return QUEUE.serve(runs, args.jobs, dry_run=args.dry_run, park=args.park)
 
 
 if __name__ == "__main__":
