@@ -157,6 +157,9 @@ def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script)
         "learning_rate": 3e-4,
     }
     assert fixed == check
+    for recipe in gated.RECIPES:  # each run's length is the length its config trains
+        run = gated.generalist_run(recipe, 20)
+        assert run.iterations == load_config(run.overrides).agent.max_iterations, recipe
 
 
 def log_success(folder: Path, group: str, rate: float) -> Path:

@@ -25,6 +25,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from realikea.config import override_key
 from realikea.files import WORKSPACE
 from realikea.reports.learning_curve import plot_learning_curve
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
@@ -82,20 +83,19 @@ RECIPES = {
         "agent.algorithm.learning_rate=3e-4",
     ],
 }
-# recipes shorter than ITERATIONS
-SHORTER = {
-    "doors": 600,
-    "fp_doors_rotate": 1000,
-    "knob_doors_rotate": 400,
-    "knob_doors_fixed_lr": 400,
-}
 
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
     # checkpoints every 25 iterations: a session stopped mid-run loses little when it resumes
     overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1",
                  "agent.save_interval=25")  # fmt: skip
-    return QueuedRun(f"{recipe}_s{seed}", overrides, SHORTER.get(recipe, ITERATIONS))
+    return QueuedRun(f"{recipe}_s{seed}", overrides, recipe_length(RECIPES[recipe]))
+
+
+def recipe_length(recipe: list[str]) -> int:
+    """The recipe's own agent.max_iterations, else the defaults' (ITERATIONS)."""
+    given = [o.split("=", 1)[1] for o in recipe if override_key(o) == "agent.max_iterations"]
+    return int(given[-1]) if given else ITERATIONS
 
 
 def kept_dir(run: QueuedRun) -> Path:
