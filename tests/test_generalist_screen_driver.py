@@ -215,8 +215,9 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
 
 @pytest.mark.parametrize("round_, candidate", [(9, "distilled_pairs_knob"),
                                                (10, "distilled_pairs_retry"),
-                                               (11, "distilled_pairs_long_knob")])  # fmt: skip
-def test_rounds_nine_to_eleven_are_staged_launches_of_their_pipelines(screen, round_, candidate):
+                                               (11, "distilled_pairs_long_knob"),
+                                               (12, "distilled_pairs_knob_fixed_lr")])  # fmt: skip
+def test_rounds_nine_to_twelve_are_staged_launches_of_their_pipelines(screen, round_, candidate):
     assert screen.ROUNDS[round_] == (candidate,)
     assert screen.MARKS[round_] == 0.8 and round_ in screen.PAD_ENTERS_ROUNDS
     run = screen.staged_run(candidate, 20)

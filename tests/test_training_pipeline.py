@@ -136,6 +136,29 @@ def test_round_elevens_stages_are_round_tens_with_knob_doors_teacher_twice_as_lo
         assert stage.overrides == tuple(swap.get(o, o) for o in before.overrides)
 
 
+def test_round_twelves_knob_door_teacher_is_the_checks_fixed_rate_run(load_script):
+    """pipeline=distilled_pairs_knob_fixed_lr: round 10's stages and retrain rule; knob doors'
+    own teacher and its retrain train as train_gated.py's knob_doors_fixed_lr did on their seed
+    (its checkpoints more often)."""
+    gated = load_script("experiments/generalist/train_gated.py")
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr"]
+    fixed = load_config(launch)
+    retry = load_config([*LAUNCH, "pipeline=distilled_pairs_retry"])
+    for scope in [("drawer",), ("door",), ("door", "finger_pull"), ("flap", "knob")]:
+        assert teacher_stage(fixed, *scope) == teacher_stage(retry, *scope)
+    assert student_stage(fixed) == student_stage(retry)
+    assert fixed.pipeline.retrain_own and fixed.pipeline.alone_all_workers
+    for retrain, seed in ((False, 20), (True, 21)):
+        stage = teacher_stage(fixed, "door", "knob", retrain)
+        teacher = without_pipeline(stage_config(fixed, launch, stage))
+        check = without_pipeline(
+            load_config(gated.generalist_run("knob_doors_fixed_lr", seed).overrides)
+        )
+        assert check["agent"].pop("save_interval") == 25
+        teacher["agent"].pop("save_interval")
+        assert teacher == check and teacher["agent"]["algorithm"]["schedule"] == "fixed"
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""
@@ -240,6 +263,10 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
     [
         ("pipeline.own_teachers=[{group: knob_hatch, iterations: 9, switch_iteration: 0}]",
          "pipeline.own_teachers: unknown group knob_hatch"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "overrides: ['env.seed=3']}]", "pipeline.own_teachers[knob_door].overrides: env.seed=3"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "overrides: [agent]}]", "pipeline.own_teachers[knob_door].overrides: agent;"),
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),

@@ -68,6 +68,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_retry": ("pipeline=distilled_pairs_retry",),
     # and knob doors' own teacher twice as long (800 iterations, poses fixed to 400)
     "distilled_pairs_long_knob": ("pipeline=distilled_pairs_long_knob",),
+    # or round 10's with knob doors' own teacher at a fixed rate of 3e-4
+    "distilled_pairs_knob_fixed_lr": ("pipeline=distilled_pairs_knob_fixed_lr",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -81,5 +83,6 @@ ROUNDS = {
     9: ("distilled_pairs_knob",),
     10: ("distilled_pairs_retry",),
     11: ("distilled_pairs_long_knob",),
+    12: ("distilled_pairs_knob_fixed_lr",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

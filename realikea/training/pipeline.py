@@ -61,6 +61,8 @@ STAGE_SET = {
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
 }
 STUDENT = "student"
+# the keys a teacher stage sets itself, which a group teacher's own overrides may not
+STAGE_KEYS = ("asset", "asset.kind", "env.seed", "agent.max_iterations", "dr.switch_iteration")
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
 
 
@@ -95,6 +97,13 @@ def check_pipeline(cfg: DictConfig) -> None:
         )
     specs = {"teacher": pipeline.teacher, "student": pipeline.student}
     specs |= {f"own_teachers[{g}]": s for g, s in own_teachers(cfg).items()}
+    for group, spec in own_teachers(cfg).items():
+        set_by_stage = [o for o in spec.get("overrides") or [] if own_override_refused(str(o))]
+        if set_by_stage:
+            raise RealIkeaError(
+                f"pipeline.own_teachers[{group}].overrides: {', '.join(map(str, set_by_stage))}; "
+                f"use key=value overrides of keys other than {', '.join(STAGE_KEYS)}"
+            )
     for key, spec in specs.items():
         if int(spec.iterations) < 1 or not 0 <= int(spec.switch_iteration) <= int(spec.iterations):
             raise RealIkeaError(
@@ -122,6 +131,13 @@ def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
     return {str(entry.group): entry for entry in cfg.pipeline.own_teachers or []}
 
 
+def own_override_refused(override: str) -> bool:
+    """Whether a group teacher's own override is not `key=value` or sets a key every teacher
+    stage sets itself."""
+    key, equals, _ = override.partition("=")
+    return not equals or key.lstrip("+~") in STAGE_KEYS
+
+
 def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
     """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
     seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
@@ -130,6 +146,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
     spec = named or pipeline.teacher
+    own = tuple(str(o) for o in named.get("overrides") or []) if named else ()
     trained_on = seed + 1 if category and (named is None or retrain) else seed
     scope = (f"asset={category}",) if category else ()
     beside = tuple(pipeline.side_by_side) if int(pipeline.stages_at_once) > 1 else ()
@@ -137,7 +154,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
         f"teacher_{group or kind}{RETRAIN if retrain else ''}",
         (*scope, f"asset.kind={kind}", f"env.seed={trained_on}",
          f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}",
-         *beside),
+         *own, *beside),
         int(spec.iterations),
         kind,
         category,
