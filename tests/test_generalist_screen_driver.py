@@ -213,13 +213,21 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
     assert driver.run.runs == [run] * 3
 
 
-@pytest.mark.parametrize("round_, candidate", [(9, "distilled_pairs_knob"),
-                                               (10, "distilled_pairs_retry"),
-                                               (11, "distilled_pairs_long_knob"),
-                                               (12, "distilled_pairs_knob_fixed_lr")])  # fmt: skip
-def test_rounds_nine_to_twelve_are_staged_launches_of_their_pipelines(screen, round_, candidate):
+@pytest.mark.parametrize(
+    "round_, candidate, student",
+    [
+        (9, "distilled_pairs_knob", 200),
+        (10, "distilled_pairs_retry", 200),
+        (11, "distilled_pairs_long_knob", 200),
+        (12, "distilled_pairs_knob_fixed_lr", 200),
+        (13, "distilled_pairs_long_student", 400),
+    ],
+)
+def test_rounds_nine_to_thirteen_are_staged_launches_of_their_pipelines(
+    screen, round_, candidate, student
+):
     assert screen.ROUNDS[round_] == (candidate,)
     assert screen.MARKS[round_] == 0.8 and round_ in screen.PAD_ENTERS_ROUNDS
     run = screen.staged_run(candidate, 20)
-    assert run.staged and run.iterations == 200
+    assert run.staged and run.iterations == student
     assert set(run.overrides) == {"logger=none", f"pipeline={candidate}", "env.seed=20"}

@@ -159,6 +159,26 @@ def test_round_twelves_knob_door_teacher_is_the_checks_fixed_rate_run(load_scrip
         assert teacher == check and teacher["agent"]["algorithm"]["schedule"] == "fixed"
 
 
+def test_round_thirteens_stages_are_round_twelves_with_a_student_twice_as_long():
+    """pipeline=distilled_pairs_long_student: round 12's teachers and retrain rule; the student
+    distils 400 iterations in place of 200."""
+    long_student = load_config([*LAUNCH, "pipeline=distilled_pairs_long_student"])
+    fixed = load_config([*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr"])
+    scopes = [("drawer",), ("door",), ("door", "finger_pull"), ("door", "knob"), ("flap", "knob")]
+    for scope in scopes:
+        for retrain in (False, True):
+            assert teacher_stage(long_student, *scope, retrain=retrain) == teacher_stage(
+                fixed, *scope, retrain=retrain
+            )
+    assert long_student.pipeline.retrain_own and long_student.pipeline.alone_all_workers
+    stage, before = student_stage(long_student), student_stage(fixed)
+    assert (stage.iterations, before.iterations) == (400, 200)
+    assert stage.overrides == tuple(
+        "agent.max_iterations=400" if o == "agent.max_iterations=200" else o
+        for o in before.overrides
+    )
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""

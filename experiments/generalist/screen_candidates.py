@@ -70,6 +70,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_long_knob": ("pipeline=distilled_pairs_long_knob",),
     # or round 10's with knob doors' own teacher at a fixed rate of 3e-4
     "distilled_pairs_knob_fixed_lr": ("pipeline=distilled_pairs_knob_fixed_lr",),
+    # and that round's student distilled twice as long (400 iterations)
+    "distilled_pairs_long_student": ("pipeline=distilled_pairs_long_student",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -84,5 +86,6 @@ ROUNDS = {
     10: ("distilled_pairs_retry",),
     11: ("distilled_pairs_long_knob",),
     12: ("distilled_pairs_knob_fixed_lr",),
+    13: ("distilled_pairs_long_student",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
