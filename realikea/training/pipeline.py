@@ -62,7 +62,7 @@ STAGE_SET = {
 }
 STUDENT = "student"
 # the keys a teacher stage sets itself, which a group teacher's own overrides may not
-STAGE_KEYS = ("asset", "asset.kind", "env.seed", "agent.max_iterations", "dr.switch_iteration")
+STAGE_KEYS = ("asset", "asset.kind", "env.seed", *STAGE_SET)
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
 
 
