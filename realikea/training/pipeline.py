@@ -43,7 +43,7 @@ from pathlib import Path
 from omegaconf import DictConfig, OmegaConf
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, GROUPS, group_name
-from realikea.config import load_config, overrides_set
+from realikea.config import load_config, override_key, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
 from realikea.files import CONF_DIR, atomic_write_text
@@ -85,19 +85,19 @@ def pipelined(cfg: DictConfig) -> bool:
 
 
 def check_pipeline(cfg: DictConfig) -> None:
-    """Refuse a pipeline config that is unknown, names an unknown group or holds a length or
-    mark out of range, naming the key."""
-    pipeline = cfg.pipeline
+    """Refuse a pipeline config that is unknown, names an unknown group, gives a group teacher
+    an override its stage sets itself or holds a length or mark out of range, naming the key."""
+    pipeline, own = cfg.pipeline, own_teachers(cfg)
     if pipeline.name not in PIPELINES:
         raise RealIkeaError(f"pipeline={pipeline.name}: use one of {', '.join(PIPELINES)}")
-    unknown = sorted(set(own_teachers(cfg)) - set(GROUPS))
+    unknown = sorted(set(own) - set(GROUPS))
     if unknown:
         raise RealIkeaError(
             f"pipeline.own_teachers: unknown group {', '.join(unknown)}; use {', '.join(GROUPS)}"
         )
     specs = {"teacher": pipeline.teacher, "student": pipeline.student}
-    specs |= {f"own_teachers[{g}]": s for g, s in own_teachers(cfg).items()}
-    for group, spec in own_teachers(cfg).items():
+    specs |= {f"own_teachers[{g}]": s for g, s in own.items()}
+    for group, spec in own.items():
         set_by_stage = [o for o in spec.get("overrides") or [] if own_override_refused(str(o))]
         if set_by_stage:
             raise RealIkeaError(
@@ -134,8 +134,7 @@ def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
 def own_override_refused(override: str) -> bool:
     """Whether a group teacher's own override is not `key=value` or sets a key every teacher
     stage sets itself."""
-    key, equals, _ = override.partition("=")
-    return not equals or key.lstrip("+~") in STAGE_KEYS
+    return "=" not in override or override_key(override) in STAGE_KEYS
 
 
 def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
