@@ -1,6 +1,6 @@
 """A training run's metrics.csv (written by realikea/training/log_writer.py) as series per tag,
-the rows of several launches of one run joined, a running mean for curves, and each category x
-kind group's training success over the run's last full window."""
+the rows of several launches of one run joined, a running mean for curves, a tag's mean over each
+full window, and each category x kind group's training success over the run's last full window."""
 
 from __future__ import annotations
 
@@ -68,6 +68,28 @@ def running_mean(values: list[float], window: int) -> np.ndarray:
     return (cumulative[ends] - cumulative[starts]) / (ends - starts)
 
 
+def logged_iterations(metrics: dict[str, tuple[list[int], list[float]]]) -> int:
+    """How many iterations a run logged (its last iteration + 1; 0: none); rsl-rl's `.../time`
+    tags are stepped in seconds, every other tag in iterations."""
+    logged = [max(its) for tag, (its, _) in metrics.items() if its and not tag.endswith("/time")]
+    return max(logged) + 1 if logged else 0
+
+
+def window_means(
+    its: list[int], values: list[float], iterations: int, window: int = WINDOW
+) -> list[float | None]:
+    """A tag's mean over each full window of a run that logged `iterations` (iterations
+    k * window .. (k + 1) * window - 1, for every k whose window ends by then): the mean of the
+    iterations in it that logged the tag (a group is logged only where one of its episodes
+    finished), None where none did. A partial last window is left out."""
+    at, of = np.asarray(its, dtype=int), np.asarray(values, dtype=float)
+    means: list[float | None] = []
+    for start in range(0, iterations - window + 1, window):
+        chosen = of[(at >= start) & (at < start + window)]
+        means.append(float(chosen.mean()) if chosen.size else None)
+    return means
+
+
 def success_tag(group: str, pad_enters: bool = False) -> str:
     """The metric a group is read on: its training success, or (`pad_enters`, finger-pull
     groups) its success on parts whose channel the fingertip pad enters."""
@@ -81,9 +103,7 @@ def last_window(run: Path, pad_enters: bool = False) -> dict[str, float | None]:
     (iterations N - WINDOW .. N - 1 of a run that logged N; None: no entry there, or the run
     is shorter than the window); `pad_enters`: see `success_tag`."""
     metrics = read_metrics(run)
-    # rsl-rl's `.../time` tags are stepped in seconds, every other tag in iterations
-    logged = [its for tag, (its, _) in metrics.items() if len(its) and not tag.endswith("/time")]
-    last = max(int(np.max(its)) for its in logged) if logged else -1
+    last = logged_iterations(metrics) - 1
     out: dict[str, float | None] = {}
     for group in GROUPS:
         its, values = (np.asarray(x) for x in metrics.get(success_tag(group, pad_enters), ([], [])))
