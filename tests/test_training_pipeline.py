@@ -305,6 +305,15 @@ def test_a_length_of_the_launch_is_refused_naming_the_stages_settings():
         check_launch(load_config(launch), launch)
 
 
+def test_a_stage_only_a_missed_group_would_train_is_checked_at_launch():
+    """asset.group_weights is a key of asset=all only: the student and the kind teachers take
+    it, a group's own teacher by the teacher rule (asset=<category>) cannot, and the launch is
+    refused before the kind teachers train rather than once one of them misses a group."""
+    launch = [*LAUNCH, "pipeline.own_teachers=[]", "asset.group_weights={knob: 2}"]
+    with pytest.raises(RealIkeaError, match="Could not override 'asset.group_weights'"):
+        check_launch(load_config(launch), launch)
+
+
 def test_a_resume_that_is_not_a_pipelines_folder_is_refused(tmp_path):
     checkpoint = tmp_path / "model_9.pt"
     checkpoint.write_bytes(b"")

@@ -185,16 +185,19 @@ def stage_config(
 
 
 def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
-    """Check every stage known before training (the kind teachers, the named own teachers,
-    the student without its teachers: `check_inputs`); returns the student's draw's groups in
-    `GROUPS` order."""
+    """Check every stage the launch may train (`check_inputs`): the student without its
+    teachers, the kind teachers, each group's own teacher (named, or by the teacher rule) and
+    a named one's retrain; returns the student's draw's groups in `GROUPS` order."""
     check_pipeline(cfg)
     groups = set(env_groups(check_inputs(stage_config(cfg, launch, student_stage(cfg)))))
-    for kind in BASE_KINDS:
-        if any(group_name(c, kind) in groups for c in CATEGORIES):
-            check_inputs(stage_config(cfg, launch, teacher_stage(cfg, kind)))
-    for group in sorted(set(own_teachers(cfg)) & groups):
-        check_inputs(stage_config(cfg, launch, teacher_stage(cfg, *kind_and_category(group))))
+    stages = [teacher_stage(cfg, kind) for kind in BASE_KINDS
+              if any(group_name(c, kind) in groups for c in CATEGORIES)]  # fmt: skip
+    for group in sorted(groups):
+        stages.append(teacher_stage(cfg, *kind_and_category(group)))
+        if group in own_teachers(cfg) and cfg.pipeline.retrain_own:
+            stages.append(teacher_stage(cfg, *kind_and_category(group), retrain=True))
+    for stage in stages:
+        check_inputs(stage_config(cfg, launch, stage))
     return [g for g in GROUPS if g in groups]
 
 
