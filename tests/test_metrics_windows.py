@@ -18,10 +18,12 @@ def _run(folder, iterations):
     """A run that logged `iterations`: a loss every iteration, a group's success only on odd
     iterations below 50 (sparse, then absent), and a seconds-stepped time tag past the end."""
     folder.mkdir()
-    rows = ["iteration,tag,value"]
-    rows += [f"{i},Loss/behavior,{i}" for i in range(iterations)]
-    rows += [f"{i},/success/knob_door,{i % 4 // 2}" for i in range(1, min(iterations, 50), 2)]
-    rows += [f"{10 * iterations},Train/mean_reward/time,1.0"]
+    rows = ["iteration,tag,value"]  # each iteration's rows together, as the run writes them
+    for i in range(iterations):
+        rows.append(f"{i},Loss/behavior,{i}")
+        if i % 2 and i < 50:
+            rows.append(f"{i},/success/knob_door,{i % 4 // 2}")
+    rows.append(f"{10 * iterations},Train/mean_reward/time,1.0")
     (folder / "metrics.csv").write_text("\n".join(rows) + "\n")
     return folder
 

@@ -235,6 +235,56 @@ def test_a_named_group_teacher_below_the_teacher_rule_is_retrained_once(
         assert teachers == {"knob_door": checkpoint}
 
 
+@pytest.mark.parametrize("kind_first", [True, False])
+@pytest.mark.parametrize("retrain_rate, taught_by", [
+    (0.25, "teacher_door"),  # round 13's seed 20: own 0.07, retrain 0.25, the door teacher 0.89
+    (0.95, "teacher_knob_door_retrain"),  # round 12's: the retrain 0.95
+    (0.89, "teacher_knob_door_retrain"),  # equal: a group's own teacher goes first
+])  # fmt: skip
+def test_with_best_teacher_a_group_learns_from_its_best_teacher_in_any_order(
+    tmp_path, kind_first, retrain_rate, taught_by
+):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr", "pipeline.best_teacher=true"]
+    cfg = load_config(launch)
+    line = Pipeline(cfg, launch, tmp_path)
+    door, first = teacher_stage(cfg, "door"), teacher_stage(cfg, "door", "knob")
+    again = teacher_stage(cfg, "door", "knob", retrain=True)
+    rates = {door: 0.89, first: 0.07, again: retrain_rate}
+    order = [door, first, again] if kind_first else [first, again, door]
+    teachers, made_ready = {}, []
+    for stage in order:
+        checkpoint = log_success(tmp_path / stage.name, "knob_door", rates[stage])
+        made_ready += line.taught(stage, checkpoint, ["knob_door"], teachers)
+    assert made_ready == [again]  # the retrain still runs: the first own teacher missed
+    assert teachers == {"knob_door": tmp_path / taught_by / "model_399.pt"}
+
+
+@pytest.mark.parametrize("kind_first", [True, False])
+def test_without_best_teacher_a_named_group_learns_from_its_last_own_teacher(tmp_path, kind_first):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr"]
+    cfg = load_config(launch)
+    line, teachers = Pipeline(cfg, launch, tmp_path), {}
+    door, first = teacher_stage(cfg, "door"), teacher_stage(cfg, "door", "knob")
+    again = teacher_stage(cfg, "door", "knob", retrain=True)
+    rates = {door: 0.89, first: 0.07, again: 0.25}
+    for stage in [door, first, again] if kind_first else [first, again, door]:
+        checkpoint = log_success(tmp_path / stage.name, "knob_door", rates[stage])
+        line.taught(stage, checkpoint, ["knob_door"], teachers)
+    assert teachers == {"knob_door": tmp_path / again.name / "model_399.pt"}
+
+
+def test_with_best_teacher_a_missed_group_keeps_its_kinds_teacher_if_its_own_does_worse(tmp_path):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr", "pipeline.best_teacher=true"]
+    cfg = load_config(launch)
+    line, teachers = Pipeline(cfg, launch, tmp_path), {}
+    flap, own = teacher_stage(cfg, "flap"), teacher_stage(cfg, "flap", "two_point")
+    kept = log_success(tmp_path / flap.name, "two_point_flap", 0.3)
+    assert line.taught(flap, kept, ["two_point_flap"], teachers) == [own]  # the teacher rule
+    later = log_success(tmp_path / own.name, "two_point_flap", 0.2)
+    assert line.taught(own, later, ["two_point_flap"], teachers) == []
+    assert teachers == {"two_point_flap": kept}
+
+
 @pytest.mark.parametrize("alone_all_workers", [True, False])
 def test_a_teacher_that_will_train_alone_takes_the_launchs_workers(
     tmp_path, monkeypatch, alone_all_workers
@@ -291,6 +341,7 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),
         ("pipeline.retrain_own=sometimes", "pipeline.retrain_own=sometimes: use true or false"),
+        ("pipeline.best_teacher=yes", "pipeline.best_teacher=yes: use true or false"),
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
     ],
 )  # fmt: skip
@@ -359,6 +410,7 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     assert all("env.seed=1" in s["overrides"] for s in stages if s["name"] in own)
     routed = CheckpointPolicy(final).run_cfg.distill.teachers
     assert routed.two_point_door == str(run / "teacher_two_point_door/model_1.pt")
+    assert stages[-1]["teachers"] == {g: Path(path).parent.name for g, path in routed.items()}
     (run / ".hydra").mkdir()  # as Hydra writes it
     kept = keep_run(run, tmp_path / "kept", [60.0], staged=True)
     assert {p.relative_to(kept).as_posix() for p in kept.rglob("model_*.pt")} == {

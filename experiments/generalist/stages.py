@@ -1,6 +1,7 @@
 """A staged run's timeline (training/pipeline.py's RUN/stages.json): when each stage began and
 ended, in minutes after the first began, its wall minutes, seconds per iteration and
-last-window training success per group; then the pipeline's span, the minutes of it with some
+last-window training success per group; the student's teacher of each group where recorded;
+then the pipeline's span, the minutes of it with some
 stage training (a parked run's gap between launches is not) and the stages' summed minutes
 (their ratio to the former: how many trained at once on average).
 
@@ -55,6 +56,10 @@ def main(argv: list[str]) -> int:
         times = f"{minutes(began)} | {minutes(ended)} | {minutes(s['seconds'])}"
         print(f"| {s['name']} | {times} | {s['iterations']} | {per_iteration:.2f} | "
               f"{s['resumed_at']} | {success} |")  # fmt: skip
+    for s in stages:
+        if "teachers" in s:  # the student's (pipelines before best_teacher did not record them)
+            taught = ", ".join(f"{g} from {t}" for g, t in s["teachers"].items())
+            print(f"{s['name']}'s teachers: {taught}")
     summed = sum(s["seconds"] for s in stages)
     if timed:
         span = max(s["ended"] for s in timed) - start

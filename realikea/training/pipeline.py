@@ -2,7 +2,8 @@
 (`pipeline=distilled`, realikea/conf/pipeline/distilled.yaml): a teacher per kind, a group's own
 teacher where the pipeline names one or its kind's teacher missed it (and, with
 `pipeline.retrain_own`, a named one again on the next seed where it missed), then every group's
-teacher distilled into one student, the launch's one checkpoint.
+teacher (with `pipeline.best_teacher`, the one of its teachers with the highest training success
+on it) distilled into one student, the launch's one checkpoint.
 
     python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
     python train.py pipeline=distilled_pairs               # the teachers two at a time
@@ -113,7 +114,7 @@ def check_pipeline(cfg: DictConfig) -> None:
             )
     if not 0.0 <= float(pipeline.learned) <= 1.0:
         raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
-    for key in ("retrain_own", "alone_all_workers"):
+    for key in ("retrain_own", "alone_all_workers", "best_teacher"):
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
@@ -253,6 +254,8 @@ class Pipeline:
         self.cfg, self.launch, self.root = cfg, launch, Path(root)
         self.started = 0  # stages run or found done so far: the progress bar's stage number
         self.at_once = int(cfg.pipeline.stages_at_once)
+        # with pipeline.best_teacher: each group's teacher so far, as (its success, own)
+        self.best: dict[str, tuple[float, bool]] = {}
 
     def folder(self, stage: Stage) -> Path:
         return self.root if stage.name == STUDENT else self.root / stage.name
@@ -289,7 +292,7 @@ class Pipeline:
             return done
         begin = time.time()
         checkpoint = train(stage_cfg, self.folder(stage), label)
-        self.record(stage, begin, resumed_at)
+        self.record(stage, begin, resumed_at, teachers)
         return checkpoint
 
     def start(self, stage: Stage, line: int) -> Path | Running:
@@ -322,17 +325,22 @@ class Pipeline:
         self.record(stage, job.begin, job.resumed_at)
         return stage, self.folder(stage) / f"model_{stage.iterations - 1}.pt"
 
-    def record(self, stage: Stage, begin: float, resumed_at: int) -> None:
+    def record(
+        self, stage: Stage, begin: float, resumed_at: int, teachers: dict[str, Path] | None = None
+    ) -> None:
         """Add the finished stage to RUN/stages.json (in place of an earlier record of it): its
-        launch's wall seconds, start and end (Unix seconds) and last-window success."""
+        launch's wall seconds, start and end (Unix seconds), last-window success and (the
+        student) each group's teacher stage."""
         end = time.time()
         path = self.root / STAGES
         stages = json.loads(path.read_text()) if path.is_file() else []
         stages = [s for s in stages if s["name"] != stage.name]
         success = last_window(self.folder(stage))
+        taught_by = {g: path.parent.name for g, path in (teachers or {}).items()}
         stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(end - begin, 1),
                        "began": round(begin, 1), "ended": round(end, 1),
-                       "success": {g: v for g, v in success.items() if v is not None}})  # fmt: skip
+                       "success": {g: v for g, v in success.items() if v is not None},
+                       **({"teachers": taught_by} if taught_by else {})})  # fmt: skip
         atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
 
     def train(self, groups: list[str]) -> Path:
@@ -375,26 +383,45 @@ class Pipeline:
     def taught(
         self, stage: Stage, checkpoint: Path, groups: list[str], teachers: dict[str, Path]
     ) -> list[Stage]:
-        """Note the finished teacher in `teachers` for the groups it teaches; the stages it
-        makes ready: a kind's teacher-rule teachers, for its groups it left below
+        """Note the finished teacher in `teachers` for the groups it teaches (`offer`); the
+        stages it makes ready: a kind's teacher-rule teachers, for its groups it left below
         `pipeline.learned`, or a named group teacher's retrain if it left its group there."""
+        success = last_window(checkpoint.parent)
         if stage.category:
             group = group_name(stage.category, stage.kind)
-            teachers[group] = checkpoint
+            self.offer(teachers, group, checkpoint, success, own=True)
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
             first_own = group in own_teachers(self.cfg) and stage.name != retrain.name
             again = self.cfg.pipeline.retrain_own and first_own
-            return [retrain] if again and self.missed(last_window(checkpoint.parent), group) else []
-        success, later = last_window(checkpoint.parent), []
+            return [retrain] if again and self.missed(success, group) else []
+        later = []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
-            if group not in groups or group in own_teachers(self.cfg):
+            if group not in groups:
                 continue
-            if self.missed(success, group):
+            named, missed = group in own_teachers(self.cfg), self.missed(success, group)
+            if missed and not named:
                 later.append(teacher_stage(self.cfg, stage.kind, category))
-            else:
-                teachers[group] = checkpoint
+            # a group with a teacher of its own keeps its kind's only as the better one
+            if self.cfg.pipeline.best_teacher or not (named or missed):
+                self.offer(teachers, group, checkpoint, success, own=False)
         return later
+
+    def offer(
+        self,
+        teachers: dict[str, Path],
+        group: str,
+        checkpoint: Path,
+        success: dict[str, float | None],
+        own: bool,
+    ) -> None:
+        """Make `checkpoint` the group's teacher: always (a group's own teacher, or its
+        retrain, replaces what it had), or with `pipeline.best_teacher` only if its training
+        success on the group is above the group's teacher so far (equal: a group's own teacher
+        goes before its kind's)."""
+        score = (success[group] or 0.0, own)
+        if not self.cfg.pipeline.best_teacher or score > self.best.get(group, (-1.0, False)):
+            teachers[group], self.best[group] = checkpoint, score
 
     def missed(self, success: dict[str, float | None], group: str) -> bool:
         """Whether a teacher left the group below `pipeline.learned` (no full window: 0)."""
