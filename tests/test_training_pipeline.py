@@ -179,6 +179,24 @@ def test_round_thirteens_stages_are_round_twelves_with_a_student_twice_as_long()
     )
 
 
+def test_round_fourteens_stages_are_round_thirteens_and_only_its_choice_of_teacher_differs():
+    """pipeline=distilled_pairs_best_teacher: every stage round 13's (so seed 20's can be
+    copied from its kept run); only pipeline.best_teacher differs."""
+    best = load_config([*LAUNCH, "pipeline=distilled_pairs_best_teacher"])
+    long_student = load_config([*LAUNCH, "pipeline=distilled_pairs_long_student"])
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("door", "knob")]
+    for scope in [*scopes, ("flap", "two_point")]:
+        for retrain in (False, True):
+            assert teacher_stage(best, *scope, retrain=retrain) == teacher_stage(
+                long_student, *scope, retrain=retrain
+            )
+    assert student_stage(best) == student_stage(long_student)
+    settings, before = (OmegaConf.to_container(c.pipeline) for c in (best, long_student))
+    assert settings == {**before, "name": "distilled_pairs_best_teacher", "best_teacher": True}
+    assert before["best_teacher"] is False
+    assert without_pipeline(best) == without_pipeline(long_student)
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""

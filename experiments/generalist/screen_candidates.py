@@ -72,6 +72,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_knob_fixed_lr": ("pipeline=distilled_pairs_knob_fixed_lr",),
     # and that round's student distilled twice as long (400 iterations)
     "distilled_pairs_long_student": ("pipeline=distilled_pairs_long_student",),
+    # and each group taught by whichever of its teachers ends with the highest success on it
+    "distilled_pairs_best_teacher": ("pipeline=distilled_pairs_best_teacher",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -87,5 +89,6 @@ ROUNDS = {
     11: ("distilled_pairs_long_knob",),
     12: ("distilled_pairs_knob_fixed_lr",),
     13: ("distilled_pairs_long_student",),
+    14: ("distilled_pairs_best_teacher",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
