@@ -254,15 +254,16 @@ def test_a_named_group_teacher_below_the_teacher_rule_is_retrained_once(
 
 
 @pytest.mark.parametrize("kind_first", [True, False])
-@pytest.mark.parametrize("retrain_rate, taught_by", [
-    (0.25, "teacher_door"),  # round 13's seed 20: own 0.07, retrain 0.25, the door teacher 0.89
-    (0.95, "teacher_knob_door_retrain"),  # round 12's: the retrain 0.95
-    (0.89, "teacher_knob_door_retrain"),  # equal: a group's own teacher goes first
+@pytest.mark.parametrize("best, retrain_rate, taught_by", [
+    (True, 0.25, "teacher_door"),  # round 13's seed 20: own 0.07, retrain 0.25, door teacher 0.89
+    (True, 0.95, "teacher_knob_door_retrain"),  # round 12's: the retrain 0.95
+    (True, 0.89, "teacher_knob_door_retrain"),  # equal: a group's own teacher goes first
+    (False, 0.25, "teacher_knob_door_retrain"),  # without best_teacher: its last own teacher
 ])  # fmt: skip
-def test_with_best_teacher_a_group_learns_from_its_best_teacher_in_any_order(
-    tmp_path, kind_first, retrain_rate, taught_by
+def test_a_named_group_learns_from_its_best_or_last_own_teacher_in_any_order(
+    tmp_path, kind_first, best, retrain_rate, taught_by
 ):
-    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr", "pipeline.best_teacher=true"]
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr", f"pipeline.best_teacher={best}"]
     cfg = load_config(launch)
     line = Pipeline(cfg, launch, tmp_path)
     door, first = teacher_stage(cfg, "door"), teacher_stage(cfg, "door", "knob")
@@ -275,20 +276,6 @@ def test_with_best_teacher_a_group_learns_from_its_best_teacher_in_any_order(
         made_ready += line.taught(stage, checkpoint, ["knob_door"], teachers)
     assert made_ready == [again]  # the retrain still runs: the first own teacher missed
     assert teachers == {"knob_door": tmp_path / taught_by / "model_399.pt"}
-
-
-@pytest.mark.parametrize("kind_first", [True, False])
-def test_without_best_teacher_a_named_group_learns_from_its_last_own_teacher(tmp_path, kind_first):
-    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr"]
-    cfg = load_config(launch)
-    line, teachers = Pipeline(cfg, launch, tmp_path), {}
-    door, first = teacher_stage(cfg, "door"), teacher_stage(cfg, "door", "knob")
-    again = teacher_stage(cfg, "door", "knob", retrain=True)
-    rates = {door: 0.89, first: 0.07, again: 0.25}
-    for stage in [door, first, again] if kind_first else [first, again, door]:
-        checkpoint = log_success(tmp_path / stage.name, "knob_door", rates[stage])
-        line.taught(stage, checkpoint, ["knob_door"], teachers)
-    assert teachers == {"knob_door": tmp_path / again.name / "model_399.pt"}
 
 
 def test_with_best_teacher_a_missed_group_keeps_its_kinds_teacher_if_its_own_does_worse(tmp_path):

@@ -161,6 +161,12 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
     )  # fmt: skip
 
 
+def kind_teacher_stages(cfg: DictConfig, groups: list[str] | set[str]) -> list[Stage]:
+    """The teacher of each kind with a group among `groups`."""
+    return [teacher_stage(cfg, kind) for kind in BASE_KINDS
+            if any(group_name(c, kind) in groups for c in CATEGORIES)]  # fmt: skip
+
+
 def student_stage(cfg: DictConfig) -> Stage:
     spec = cfg.pipeline.student
     return Stage(
@@ -191,12 +197,12 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
     a named one's retrain; returns the student's draw's groups in `GROUPS` order."""
     check_pipeline(cfg)
     groups = set(env_groups(check_inputs(stage_config(cfg, launch, student_stage(cfg)))))
-    stages = [teacher_stage(cfg, kind) for kind in BASE_KINDS
-              if any(group_name(c, kind) in groups for c in CATEGORIES)]  # fmt: skip
+    stages = kind_teacher_stages(cfg, groups)
     for group in sorted(groups):
-        stages.append(teacher_stage(cfg, *kind_and_category(group)))
+        scope = kind_and_category(group)
+        stages.append(teacher_stage(cfg, *scope))
         if group in own_teachers(cfg) and cfg.pipeline.retrain_own:
-            stages.append(teacher_stage(cfg, *kind_and_category(group), retrain=True))
+            stages.append(teacher_stage(cfg, *scope, retrain=True))
     for stage in stages:
         check_inputs(stage_config(cfg, launch, stage))
     return [g for g in GROUPS if g in groups]
@@ -336,7 +342,7 @@ class Pipeline:
         stages = json.loads(path.read_text()) if path.is_file() else []
         stages = [s for s in stages if s["name"] != stage.name]
         success = last_window(self.folder(stage))
-        taught_by = {g: path.parent.name for g, path in (teachers or {}).items()}
+        taught_by = {g: checkpoint.parent.name for g, checkpoint in (teachers or {}).items()}
         stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(end - begin, 1),
                        "began": round(begin, 1), "ended": round(end, 1),
                        "success": {g: v for g, v in success.items() if v is not None},
@@ -351,8 +357,7 @@ class Pipeline:
         """Train the kind teachers and the groups' own ones, `stages_at_once` at a time (here
         when one), each once the stage it needs is done; each group's teacher."""
         own = [g for g in own_teachers(self.cfg) if g in groups]
-        ready = [teacher_stage(self.cfg, kind) for kind in BASE_KINDS
-                 if any(group_name(c, kind) in groups for c in CATEGORIES)]  # fmt: skip
+        ready = kind_teacher_stages(self.cfg, groups)
         ready += [teacher_stage(self.cfg, *kind_and_category(group)) for group in own]
         teachers: dict[str, Path] = {}
         running: dict[Stage, Running] = {}
