@@ -197,6 +197,32 @@ def test_round_fourteens_stages_are_round_thirteens_and_only_its_choice_of_teach
     assert without_pipeline(best) == without_pipeline(long_student)
 
 
+def test_round_fifteens_stages_are_round_thirteens_but_knob_doors_teacher_from_the_door_one():
+    """pipeline=distilled_pairs_knob_from_door: round 13's kind teachers, finger-pull door
+    specialist and student (so seed 20's can be copied from its kept run); knob doors' own
+    teacher, and its retrain, start from the door teacher's actor: 200 iterations of the
+    launch's (the retrain: next) seed, poses randomized throughout, the fixed rate."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_from_door"]
+    from_door = load_config(launch)
+    long_student = load_config([*LAUNCH, "pipeline=distilled_pairs_long_student"])
+    for scope in [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("flap", "knob")]:
+        assert teacher_stage(from_door, *scope) == teacher_stage(long_student, *scope)
+    assert student_stage(from_door) == student_stage(long_student)
+    assert from_door.pipeline.retrain_own and not from_door.pipeline.best_teacher
+    for retrain, seed in ((False, 20), (True, 21)):
+        stage = teacher_stage(from_door, "door", "knob", retrain)
+        assert (stage.iterations, stage.starts_from) == (200, "teacher_door")
+        teacher = stage_config(from_door, launch, stage)
+        assert (teacher.env.seed, teacher.agent.max_iterations, teacher.dr.switch_iteration) == (
+            seed,
+            200,
+            0,
+        )
+        assert teacher.agent.algorithm.schedule == "fixed"
+        assert teacher.agent.algorithm.learning_rate == 3e-4
+        assert (teacher.asset.category, teacher.asset.kind) == ("knob", "door")
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""
@@ -290,6 +316,54 @@ def test_with_best_teacher_a_missed_group_keeps_its_kinds_teacher_if_its_own_doe
     assert teachers == {"two_point_flap": kept}
 
 
+FROM_DOOR = [
+    *LAUNCH,
+    "pipeline=distilled_pairs_knob_fixed_lr",
+    "pipeline.own_teachers=[{group: finger_pull_door, iterations: 1000, switch_iteration: 500}, "
+    "{group: knob_door, iterations: 200, switch_iteration: 0, from_kind: true}]",
+]
+
+
+def test_a_group_teacher_from_its_kind_starts_once_that_teacher_is_done(tmp_path, monkeypatch):
+    """own_teachers[].from_kind: the named teacher is not ready at the start but once its
+    kind's teacher is done, on the launch's seed; each stage is found done at once."""
+    started = []
+
+    def done(self, stage, line):
+        started.append(stage.name)
+        return tmp_path / stage.name / f"model_{stage.iterations - 1}.pt"
+
+    monkeypatch.setattr(Pipeline, "start", done)
+    monkeypatch.setattr(
+        "realikea.training.pipeline.last_window", lambda run: dict.fromkeys(GROUPS, 1.0)
+    )
+    cfg = load_config(FROM_DOOR)
+    teachers = Pipeline(cfg, FROM_DOOR, tmp_path).teachers(list(GROUPS))
+    assert started == ["teacher_finger_pull_door", "teacher_drawer", "teacher_door",
+                       "teacher_flap", "teacher_knob_door"]  # fmt: skip
+    assert teachers["knob_door"] == tmp_path / "teacher_knob_door/model_199.pt"
+    assert "env.seed=20" in teacher_stage(cfg, "door", "knob").overrides
+
+
+def test_a_group_teacher_from_its_kind_starts_from_that_teachers_actor_unless_resumed(tmp_path):
+    """A fresh from_kind stage takes its kind teacher's last checkpoint as `train.init_actor`
+    (its retrain too); one with a checkpoint of its own resumes that instead."""
+    cfg = load_config(FROM_DOOR)
+    line = Pipeline(cfg, FROM_DOOR, tmp_path)
+    door = tmp_path / "teacher_door/model_399.pt"
+    for retrain in (False, True):
+        stage = teacher_stage(cfg, "door", "knob", retrain)
+        assert stage.starts_from == "teacher_door"
+        _, _, stage_cfg, resumed_at = line.prepare(stage, None)
+        assert (stage_cfg.train.init_actor, stage_cfg.train.resume) == (str(door), None)
+    (tmp_path / "teacher_knob_door_retrain/model_50.pt").write_bytes(b"")
+    _, _, stage_cfg, resumed_at = line.prepare(stage, None)
+    assert stage_cfg.train.init_actor is None and resumed_at == 50
+    assert stage_cfg.train.resume == str(tmp_path / "teacher_knob_door_retrain/model_50.pt")
+    for scope in [("door",), ("door", "finger_pull"), ("flap", "knob")]:
+        assert teacher_stage(cfg, *scope).starts_from == ""
+
+
 @pytest.mark.parametrize("alone_all_workers", [True, False])
 def test_a_teacher_that_will_train_alone_takes_the_launchs_workers(
     tmp_path, monkeypatch, alone_all_workers
@@ -348,6 +422,8 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.retrain_own=sometimes", "pipeline.retrain_own=sometimes: use true or false"),
         ("pipeline.best_teacher=yes", "pipeline.best_teacher=yes: use true or false"),
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "from_kind: 2}]", "pipeline.own_teachers[knob_door].from_kind=2: use true or false"),
     ],
 )  # fmt: skip
 def test_bad_settings_are_refused_naming_the_key(override, message):

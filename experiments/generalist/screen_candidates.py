@@ -74,6 +74,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_long_student": ("pipeline=distilled_pairs_long_student",),
     # and each group taught by whichever of its teachers ends with the highest success on it
     "distilled_pairs_best_teacher": ("pipeline=distilled_pairs_best_teacher",),
+    # or round 13's with knob doors' own teacher started from the door teacher's actor
+    "distilled_pairs_knob_from_door": ("pipeline=distilled_pairs_knob_from_door",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -90,5 +92,6 @@ ROUNDS = {
     12: ("distilled_pairs_knob_fixed_lr",),
     13: ("distilled_pairs_long_student",),
     14: ("distilled_pairs_best_teacher",),
+    15: ("distilled_pairs_knob_from_door",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -18,8 +18,9 @@ checkpoint is there is done; a stopped one continues from its last checkpoint. R
 records each finished stage: its overrides, the wall seconds of the launch that finished it and
 each group's training success over its last full window (`realikea.training.metrics`).
 
-A teacher is ready once the stage it needs is done (a kind's teacher-rule teachers need that
-kind's teacher, a retrained one the group's first; the others nothing), and of the ready ones
+A teacher is ready once the stage it needs is done (a kind's teacher-rule teachers, and a named
+group teacher that starts from its kind's actor, `from_kind`, need that kind's teacher, a
+retrained one the group's first; the others nothing), and of the ready ones
 the longest starts first, so that it does not end the pipeline alone; among equal ones a
 group's own teacher goes before a kind's, so that a retrain it may need starts while other
 teachers still run. With `pipeline.stages_at_once` above 1 the teachers train that
@@ -78,6 +79,8 @@ class Stage:
     iterations: int
     kind: str = ""
     category: str = ""
+    # the stage whose last checkpoint's actor this one starts from (`train.init_actor`), if any
+    starts_from: str = ""
 
 
 def pipelined(cfg: DictConfig) -> bool:
@@ -104,6 +107,10 @@ def check_pipeline(cfg: DictConfig) -> None:
             raise RealIkeaError(
                 f"pipeline.own_teachers[{group}].overrides: {', '.join(map(str, set_by_stage))}; "
                 f"use key=value overrides of keys other than {', '.join(STAGE_KEYS)}"
+            )
+        if not isinstance(spec.get("from_kind", False), bool):
+            raise RealIkeaError(
+                f"pipeline.own_teachers[{group}].from_kind={spec.from_kind}: use true or false"
             )
     for key, spec in specs.items():
         if int(spec.iterations) < 1 or not 0 <= int(spec.switch_iteration) <= int(spec.iterations):
@@ -132,6 +139,12 @@ def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
     return {str(entry.group): entry for entry in cfg.pipeline.own_teachers or []}
 
 
+def from_kind(cfg: DictConfig, group: str) -> bool:
+    """Whether the group's named teacher (and its retrain) starts from its kind's teacher."""
+    named = own_teachers(cfg).get(group)
+    return bool(named is not None and named.get("from_kind", False))
+
+
 def own_override_refused(override: str) -> bool:
     """Whether a group teacher's own override is not `key=value` or sets a key every teacher
     stage sets itself."""
@@ -141,7 +154,8 @@ def own_override_refused(override: str) -> bool:
 def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
     """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
     seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
-    named one did) on the next seed."""
+    named one did) on the next seed; a named one with `from_kind` starts from the actor of its
+    kind's teacher."""
     pipeline, seed = cfg.pipeline, int(cfg.env.seed)
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
@@ -158,6 +172,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
         int(spec.iterations),
         kind,
         category,
+        f"teacher_{kind}" if named is not None and from_kind(cfg, group) else "",
     )  # fmt: skip
 
 
@@ -266,6 +281,11 @@ class Pipeline:
     def folder(self, stage: Stage) -> Path:
         return self.root if stage.name == STUDENT else self.root / stage.name
 
+    def last_checkpoint(self, kind_teacher: str) -> Path:
+        """The last checkpoint of the kind teacher named `kind_teacher`."""
+        last = int(self.cfg.pipeline.teacher.iterations) - 1
+        return self.root / kind_teacher / f"model_{last}.pt"
+
     def prepare(self, stage: Stage, teachers: dict[str, Path] | None) -> tuple:
         """Ready the stage's folder: (its last checkpoint, or None) if done, else (None, its
         label, its config resuming its last checkpoint if it has one, that checkpoint's
@@ -283,6 +303,8 @@ class Pipeline:
             last, path = found[-1]
             stage_cfg.train.resume = str(path)
             stage_cfg.agent.max_iterations = stage.iterations - last
+        elif stage.starts_from:
+            stage_cfg.train.init_actor = str(self.last_checkpoint(stage.starts_from))
         elif stage.name == STUDENT:
             (folder / "metrics.csv").unlink(missing_ok=True)  # a launch stopped before a checkpoint
         else:
@@ -356,7 +378,7 @@ class Pipeline:
     def teachers(self, groups: list[str]) -> dict[str, Path]:
         """Train the kind teachers and the groups' own ones, `stages_at_once` at a time (here
         when one), each once the stage it needs is done; each group's teacher."""
-        own = [g for g in own_teachers(self.cfg) if g in groups]
+        own = [g for g in own_teachers(self.cfg) if g in groups and not from_kind(self.cfg, g)]
         ready = kind_teacher_stages(self.cfg, groups)
         ready += [teacher_stage(self.cfg, *kind_and_category(group)) for group in own]
         teachers: dict[str, Path] = {}
@@ -390,7 +412,8 @@ class Pipeline:
     ) -> list[Stage]:
         """Note the finished teacher in `teachers` for the groups it teaches (`offer`); the
         stages it makes ready: a kind's teacher-rule teachers, for its groups it left below
-        `pipeline.learned`, or a named group teacher's retrain if it left its group there."""
+        `pipeline.learned`, and its named group teachers that start from it (`from_kind`); or
+        a named group teacher's retrain if it left its group there."""
         success = last_window(checkpoint.parent)
         if stage.category:
             group = group_name(stage.category, stage.kind)
@@ -405,7 +428,7 @@ class Pipeline:
             if group not in groups:
                 continue
             named, missed = group in own_teachers(self.cfg), self.missed(success, group)
-            if missed and not named:
+            if (missed and not named) or from_kind(self.cfg, group):
                 later.append(teacher_stage(self.cfg, stage.kind, category))
             # a group with a teacher of its own keeps its kind's only as the better one
             if self.cfg.pipeline.best_teacher or not (named or missed):
