@@ -172,7 +172,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
         int(spec.iterations),
         kind,
         category,
-        f"teacher_{kind}" if named is not None and from_kind(cfg, group) else "",
+        f"teacher_{kind}" if from_kind(cfg, group) else "",
     )  # fmt: skip
 
 
