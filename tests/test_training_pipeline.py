@@ -354,7 +354,7 @@ def test_a_group_teacher_from_its_kind_starts_from_that_teachers_actor_unless_re
     for retrain in (False, True):
         stage = teacher_stage(cfg, "door", "knob", retrain)
         assert stage.starts_from == "teacher_door"
-        _, _, stage_cfg, resumed_at = line.prepare(stage, None)
+        _, _, stage_cfg, _ = line.prepare(stage, None)
         assert (stage_cfg.train.init_actor, stage_cfg.train.resume) == (str(door), None)
     (tmp_path / "teacher_knob_door_retrain/model_50.pt").write_bytes(b"")
     _, _, stage_cfg, resumed_at = line.prepare(stage, None)
