@@ -172,7 +172,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
         int(spec.iterations),
         kind,
         category,
-        f"teacher_{kind}" if from_kind(cfg, group) else "",
+        teacher_stage(cfg, kind).name if from_kind(cfg, group) else "",
     )  # fmt: skip
 
 
@@ -281,10 +281,9 @@ class Pipeline:
     def folder(self, stage: Stage) -> Path:
         return self.root if stage.name == STUDENT else self.root / stage.name
 
-    def last_checkpoint(self, kind_teacher: str) -> Path:
-        """The last checkpoint of the kind teacher named `kind_teacher`."""
-        last = int(self.cfg.pipeline.teacher.iterations) - 1
-        return self.root / kind_teacher / f"model_{last}.pt"
+    def final(self, stage: Stage) -> Path:
+        """The stage's last checkpoint once it is done."""
+        return self.folder(stage) / f"model_{stage.iterations - 1}.pt"
 
     def prepare(self, stage: Stage, teachers: dict[str, Path] | None) -> tuple:
         """Ready the stage's folder: (its last checkpoint, or None) if done, else (None, its
@@ -293,7 +292,7 @@ class Pipeline:
         self.started += 1
         label = f"stage {self.started} {stage.name}"
         folder = self.folder(stage)
-        final = folder / f"model_{stage.iterations - 1}.pt"
+        final = self.final(stage)
         if final.is_file():
             print(f"{label}: done ({final})", flush=True)
             return final, label, None, 0
@@ -304,7 +303,7 @@ class Pipeline:
             stage_cfg.train.resume = str(path)
             stage_cfg.agent.max_iterations = stage.iterations - last
         elif stage.starts_from:
-            stage_cfg.train.init_actor = str(self.last_checkpoint(stage.starts_from))
+            stage_cfg.train.init_actor = str(self.final(teacher_stage(self.cfg, stage.kind)))
         elif stage.name == STUDENT:
             (folder / "metrics.csv").unlink(missing_ok=True)  # a launch stopped before a checkpoint
         else:
@@ -351,7 +350,7 @@ class Pipeline:
                 f"is printed above; its folder: {self.folder(stage)})"
             )
         self.record(stage, job.begin, job.resumed_at)
-        return stage, self.folder(stage) / f"model_{stage.iterations - 1}.pt"
+        return stage, self.final(stage)
 
     def record(
         self, stage: Stage, begin: float, resumed_at: int, teachers: dict[str, Path] | None = None
