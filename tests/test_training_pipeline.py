@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -223,6 +224,32 @@ def test_round_fifteens_stages_are_round_thirteens_but_knob_doors_teacher_from_t
         assert (teacher.asset.category, teacher.asset.kind) == ("knob", "door")
 
 
+def test_round_sixteens_stages_are_round_fifteens_but_a_longer_knob_door_teacher_and_student_draw():
+    """pipeline=distilled_pairs_student_doors2: round 15's kind teachers, finger-pull door
+    specialist and teacher-rule teachers (so a seed's can be copied from its kept run); knob
+    doors' teacher from the door teacher 400 iterations; the student's draw gives each door
+    group two turns for every one of the others'."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_doors2"]
+    doors2 = load_config(launch)
+    from_door = load_config([*LAUNCH, "pipeline=distilled_pairs_knob_from_door"])
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("flap", "finger_pull")]
+    for scope in scopes:
+        assert teacher_stage(doors2, *scope) == teacher_stage(from_door, *scope)
+    knob, knob_before = (
+        teacher_stage(doors2, "door", "knob"),
+        teacher_stage(from_door, "door", "knob"),
+    )
+    assert (knob.iterations, knob_before.iterations) == (400, 200)
+    assert replace(knob, iterations=200, overrides=knob_before.overrides) == knob_before
+    assert "agent.max_iterations=400" in knob.overrides
+    student = stage_config(doors2, launch, student_stage(doors2))
+    before = stage_config(from_door, launch, student_stage(from_door))
+    assert OmegaConf.to_container(student.asset.group_weights) == {"door": 2}
+    assert before.asset.group_weights is None
+    student.asset.group_weights = None
+    assert without_pipeline(student) == without_pipeline(before)
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""
@@ -416,6 +443,8 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
          "overrides: ['env.seed=3']}]", "pipeline.own_teachers[knob_door].overrides: env.seed=3"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "overrides: [agent]}]", "pipeline.own_teachers[knob_door].overrides: agent;"),
+        ("+pipeline.student.overrides=['asset.kind=door']",
+         "pipeline.student.overrides: asset.kind=door"),
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),

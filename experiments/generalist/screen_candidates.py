@@ -76,6 +76,9 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_best_teacher": ("pipeline=distilled_pairs_best_teacher",),
     # or round 13's with knob doors' own teacher started from the door teacher's actor
     "distilled_pairs_knob_from_door": ("pipeline=distilled_pairs_knob_from_door",),
+    # and that teacher twice as long (400 iterations), each door group drawn twice as often for
+    # the student
+    "distilled_pairs_student_doors2": ("pipeline=distilled_pairs_student_doors2",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -93,5 +96,6 @@ ROUNDS = {
     13: ("distilled_pairs_long_student",),
     14: ("distilled_pairs_best_teacher",),
     15: ("distilled_pairs_knob_from_door",),
+    16: ("distilled_pairs_student_doors2",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

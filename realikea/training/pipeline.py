@@ -63,7 +63,7 @@ STAGE_SET = {
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
 }
 STUDENT = "student"
-# the keys a teacher stage sets itself, which a group teacher's own overrides may not
+# the keys a stage sets itself, which its own overrides (a group teacher's, the student's) may not
 STAGE_KEYS = ("asset", "asset.kind", "env.seed", *STAGE_SET)
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
 
@@ -90,7 +90,8 @@ def pipelined(cfg: DictConfig) -> bool:
 
 def check_pipeline(cfg: DictConfig) -> None:
     """Refuse a pipeline config that is unknown, names an unknown group, gives a group teacher
-    an override its stage sets itself or holds a length or mark out of range, naming the key."""
+    or the student an override its stage sets itself or holds a length or mark out of range,
+    naming the key."""
     pipeline, own = cfg.pipeline, own_teachers(cfg)
     if pipeline.name not in PIPELINES:
         raise RealIkeaError(f"pipeline={pipeline.name}: use one of {', '.join(PIPELINES)}")
@@ -101,13 +102,14 @@ def check_pipeline(cfg: DictConfig) -> None:
         )
     specs = {"teacher": pipeline.teacher, "student": pipeline.student}
     specs |= {f"own_teachers[{g}]": s for g, s in own.items()}
-    for group, spec in own.items():
-        set_by_stage = [o for o in spec.get("overrides") or [] if own_override_refused(str(o))]
+    for key, spec in specs.items():
+        set_by_stage = [o for o in spec.get("overrides") or [] if stage_override_refused(str(o))]
         if set_by_stage:
             raise RealIkeaError(
-                f"pipeline.own_teachers[{group}].overrides: {', '.join(map(str, set_by_stage))}; "
+                f"pipeline.{key}.overrides: {', '.join(map(str, set_by_stage))}; "
                 f"use key=value overrides of keys other than {', '.join(STAGE_KEYS)}"
             )
+    for group, spec in own.items():
         if not isinstance(spec.get("from_kind", False), bool):
             raise RealIkeaError(
                 f"pipeline.own_teachers[{group}].from_kind={spec.from_kind}: use true or false"
@@ -145,9 +147,9 @@ def from_kind(cfg: DictConfig, group: str) -> bool:
     return bool(named is not None and named.get("from_kind", False))
 
 
-def own_override_refused(override: str) -> bool:
-    """Whether a group teacher's own override is not `key=value` or sets a key every teacher
-    stage sets itself."""
+def stage_override_refused(override: str) -> bool:
+    """Whether a stage's own override (a group teacher's, the student's) is not `key=value`
+    or sets a key every teacher stage sets itself."""
     return "=" not in override or override_key(override) in STAGE_KEYS
 
 
@@ -187,7 +189,8 @@ def student_stage(cfg: DictConfig) -> Stage:
     return Stage(
         STUDENT,
         (f"env.seed={int(cfg.env.seed)}", f"agent.max_iterations={spec.iterations}",
-         f"dr.switch_iteration={spec.switch_iteration}"),
+         f"dr.switch_iteration={spec.switch_iteration}",
+         *(str(o) for o in spec.get("overrides") or [])),
         int(spec.iterations),
     )  # fmt: skip
 
