@@ -250,6 +250,48 @@ def test_round_sixteens_stages_are_round_fifteens_but_a_longer_knob_door_teacher
     assert without_pipeline(student) == without_pipeline(before)
 
 
+def test_round_seventeens_stages_are_round_fifteens_twelves_retrain_and_sixteens_student():
+    """pipeline=distilled_pairs_knob_second_teacher: round 15's teachers, knob doors' from the
+    door teacher included (so a seed's can be copied from its kept run); knob doors' retrain is
+    round 12's (from scratch, next seed, 400 iterations, poses fixed to 200, the fixed rate);
+    the student is round 16's."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_second_teacher"]
+    second = load_config(launch)
+    from_door = load_config([*LAUNCH, "pipeline=distilled_pairs_knob_from_door"])
+    fixed_lr = load_config([*LAUNCH, "pipeline=distilled_pairs_knob_fixed_lr"])
+    doors2 = load_config([*LAUNCH, "pipeline=distilled_pairs_student_doors2"])
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("flap", "finger_pull")]
+    for scope in [*scopes, ("door", "knob")]:
+        assert teacher_stage(second, *scope) == teacher_stage(from_door, *scope)
+    retrain = teacher_stage(second, "door", "knob", retrain=True)
+    assert retrain == teacher_stage(fixed_lr, "door", "knob", retrain=True)
+    assert (retrain.iterations, retrain.starts_from) == (400, "")
+    assert "env.seed=21" in retrain.overrides and "dr.switch_iteration=200" in retrain.overrides
+    assert student_stage(second) == student_stage(doors2)
+    assert second.pipeline.retrain_own and second.pipeline.keep_better_retrain
+
+
+@pytest.mark.parametrize("first_rate, retrain_rate, retrained, taught_by", [
+    (0.82, 0.95, True, "teacher_knob_door_retrain"),  # round 16's seed 21, a better retrain
+    (0.82, 0.80, True, "teacher_knob_door"),  # a worse retrain: the first teaches
+    (0.82, 0.82, True, "teacher_knob_door"),  # equal: the first
+    (0.95, None, False, "teacher_knob_door"),  # round 15's seed 20: at 0.9 or more, no retrain
+])  # fmt: skip
+def test_a_knob_door_teacher_under_its_retrain_mark_gets_a_second_and_the_better_teaches(
+    tmp_path, first_rate, retrain_rate, retrained, taught_by
+):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_knob_second_teacher"]
+    cfg = load_config(launch)
+    line, teachers = Pipeline(cfg, launch, tmp_path), {}
+    first, again = teacher_stage(cfg, "door", "knob"), teacher_stage(cfg, "door", "knob", True)
+    checkpoint = log_success(tmp_path / first.name, "knob_door", first_rate)
+    assert line.taught(first, checkpoint, ["knob_door"], teachers) == ([again] if retrained else [])
+    if retrained:
+        checkpoint = log_success(tmp_path / again.name, "knob_door", retrain_rate)
+        assert line.taught(again, checkpoint, ["knob_door"], teachers) == []
+    assert teachers == {"knob_door": tmp_path / taught_by / "model_399.pt"}
+
+
 def test_the_knob_door_check_trains_the_pipelines_knob_door_teacher(load_script):
     """train_gated.py's knob_doors_rotate is knob doors' own teacher of round 10 on the run's
     seed (its checkpoints more often); knob_doors_fixed_lr differs only in the rate."""
@@ -445,6 +487,14 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
          "overrides: [agent]}]", "pipeline.own_teachers[knob_door].overrides: agent;"),
         ("+pipeline.student.overrides=['asset.kind=door']",
          "pipeline.student.overrides: asset.kind=door"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "retrain_below: 2}]", "pipeline.own_teachers[knob_door].retrain_below=2: use a rate"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "retrain: {iterations: 0}}]", "pipeline.own_teachers[knob_door].retrain: iterations=0"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "retrain: {from_kind: 2}}]",
+         "pipeline.own_teachers[knob_door].retrain.from_kind=2: use true or false"),
+        ("pipeline.keep_better_retrain=1", "pipeline.keep_better_retrain=1: use true or false"),
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),

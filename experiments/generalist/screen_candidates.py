@@ -79,6 +79,9 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # and that teacher twice as long (400 iterations), each door group drawn twice as often for
     # the student
     "distilled_pairs_student_doors2": ("pipeline=distilled_pairs_student_doors2",),
+    # or that with knob doors' teacher at 200 iterations again and, below 0.9, a second one from
+    # scratch, the better teaching
+    "distilled_pairs_knob_second_teacher": ("pipeline=distilled_pairs_knob_second_teacher",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -97,5 +100,6 @@ ROUNDS = {
     14: ("distilled_pairs_best_teacher",),
     15: ("distilled_pairs_knob_from_door",),
     16: ("distilled_pairs_student_doors2",),
+    17: ("distilled_pairs_knob_second_teacher",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -102,6 +102,7 @@ def check_pipeline(cfg: DictConfig) -> None:
         )
     specs = {"teacher": pipeline.teacher, "student": pipeline.student}
     specs |= {f"own_teachers[{g}]": s for g, s in own.items()}
+    specs |= {f"own_teachers[{g}].retrain": retrain_spec(s) for g, s in own.items()}
     for key, spec in specs.items():
         set_by_stage = [o for o in spec.get("overrides") or [] if stage_override_refused(str(o))]
         if set_by_stage:
@@ -109,10 +110,14 @@ def check_pipeline(cfg: DictConfig) -> None:
                 f"pipeline.{key}.overrides: {', '.join(map(str, set_by_stage))}; "
                 f"use key=value overrides of keys other than {', '.join(STAGE_KEYS)}"
             )
-    for group, spec in own.items():
+    for key, spec in specs.items():
         if not isinstance(spec.get("from_kind", False), bool):
+            raise RealIkeaError(f"pipeline.{key}.from_kind={spec.from_kind}: use true or false")
+    for group, spec in own.items():
+        if not 0.0 <= float(spec.get("retrain_below", 0.0)) <= 1.0:
             raise RealIkeaError(
-                f"pipeline.own_teachers[{group}].from_kind={spec.from_kind}: use true or false"
+                f"pipeline.own_teachers[{group}].retrain_below={spec.retrain_below}: use a rate "
+                "in [0, 1]"
             )
     for key, spec in specs.items():
         if int(spec.iterations) < 1 or not 0 <= int(spec.switch_iteration) <= int(spec.iterations):
@@ -123,7 +128,7 @@ def check_pipeline(cfg: DictConfig) -> None:
             )
     if not 0.0 <= float(pipeline.learned) <= 1.0:
         raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
-    for key in ("retrain_own", "alone_all_workers", "best_teacher"):
+    for key in ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain"):
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
@@ -147,6 +152,18 @@ def from_kind(cfg: DictConfig, group: str) -> bool:
     return bool(named is not None and named.get("from_kind", False))
 
 
+def retrain_spec(named: DictConfig) -> DictConfig:
+    """A named group teacher's retrain: its settings with its `retrain` ones on top."""
+    spec = OmegaConf.masked_copy(named, [k for k in named if k != "retrain"])
+    return OmegaConf.merge(spec, named.get("retrain") or {})
+
+
+def retrain_mark(cfg: DictConfig, group: str) -> float:
+    """The training success under which the group's named teacher trains again
+    (`retrain_below`, else `pipeline.learned`)."""
+    return float(own_teachers(cfg)[group].get("retrain_below", cfg.pipeline.learned))
+
+
 def stage_override_refused(override: str) -> bool:
     """Whether a stage's own override (a group teacher's, the student's) is not `key=value`
     or sets a key every teacher stage sets itself."""
@@ -156,11 +173,13 @@ def stage_override_refused(override: str) -> bool:
 def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
     """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
     seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
-    named one did) on the next seed; a named one with `from_kind` starts from the actor of its
-    kind's teacher."""
+    named one did, with its `retrain` settings) on the next seed; a named one with `from_kind`
+    starts from the actor of its kind's teacher."""
     pipeline, seed = cfg.pipeline, int(cfg.env.seed)
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
+    if named is not None and retrain:
+        named = retrain_spec(named)
     spec = named or pipeline.teacher
     own = tuple(str(o) for o in named.get("overrides") or []) if named else ()
     trained_on = seed + 1 if category and (named is None or retrain) else seed
@@ -174,7 +193,7 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
         int(spec.iterations),
         kind,
         category,
-        teacher_stage(cfg, kind).name if from_kind(cfg, group) else "",
+        teacher_stage(cfg, kind).name if named and named.get("from_kind", False) else "",
     )  # fmt: skip
 
 
@@ -415,15 +434,17 @@ class Pipeline:
         """Note the finished teacher in `teachers` for the groups it teaches (`offer`); the
         stages it makes ready: a kind's teacher-rule teachers, for its groups it left below
         `pipeline.learned`, and its named group teachers that start from it (`from_kind`); or
-        a named group teacher's retrain if it left its group there."""
+        a named group teacher's retrain if it left its group under its retrain mark."""
         success = last_window(checkpoint.parent)
         if stage.category:
             group = group_name(stage.category, stage.kind)
-            self.offer(teachers, group, checkpoint, success, own=True)
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
-            first_own = group in own_teachers(self.cfg) and stage.name != retrain.name
-            again = self.cfg.pipeline.retrain_own and first_own
-            return [retrain] if again and self.missed(success, group) else []
+            better = stage.name == retrain.name and self.cfg.pipeline.keep_better_retrain
+            self.offer(teachers, group, checkpoint, success, own=True, only_if_better=better)
+            named_first = group in own_teachers(self.cfg) and stage.name != retrain.name
+            if not (self.cfg.pipeline.retrain_own and named_first):
+                return []
+            return [retrain] if self.missed(success, group, retrain_mark(self.cfg, group)) else []
         later = []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
@@ -444,18 +465,23 @@ class Pipeline:
         checkpoint: Path,
         success: dict[str, float | None],
         own: bool,
+        only_if_better: bool = False,
     ) -> None:
         """Make `checkpoint` the group's teacher: always (a group's own teacher, or its
-        retrain, replaces what it had), or with `pipeline.best_teacher` only if its training
-        success on the group is above the group's teacher so far (equal: a group's own teacher
-        goes before its kind's)."""
+        retrain, replaces what it had), or with `pipeline.best_teacher` (or `only_if_better`)
+        only if its training success on the group is above the group's teacher so far (equal:
+        a group's own teacher goes before its kind's, the first own one before its retrain)."""
         score = (success[group] or 0.0, own)
-        if not self.cfg.pipeline.best_teacher or score > self.best.get(group, (-1.0, False)):
+        choose = self.cfg.pipeline.best_teacher or only_if_better
+        if not choose or score > self.best.get(group, (-1.0, False)):
             teachers[group], self.best[group] = checkpoint, score
 
-    def missed(self, success: dict[str, float | None], group: str) -> bool:
-        """Whether a teacher left the group below `pipeline.learned` (no full window: 0)."""
-        return (success[group] or 0.0) < float(self.cfg.pipeline.learned)
+    def missed(
+        self, success: dict[str, float | None], group: str, mark: float | None = None
+    ) -> bool:
+        """Whether a teacher left the group below `mark`, by default `pipeline.learned` (no
+        full window: 0)."""
+        return (success[group] or 0.0) < float(self.cfg.pipeline.learned if mark is None else mark)
 
 
 def kind_and_category(group: str) -> tuple[str, str]:
