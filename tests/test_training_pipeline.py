@@ -271,6 +271,24 @@ def test_round_seventeens_stages_are_round_fifteens_twelves_retrain_and_sixteens
     assert second.pipeline.retrain_own and second.pipeline.keep_better_retrain
 
 
+def test_round_eighteens_stages_are_round_seventeens_but_the_students_envs():
+    """pipeline=distilled_pairs_student_96: round 17's teachers, its second knob-door teacher
+    included (so a seed's can be copied from its kept run); the student on 96 envs."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_96"]
+    wider = load_config(launch)
+    second = load_config([*LAUNCH, "pipeline=distilled_pairs_knob_second_teacher"])
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("flap", "finger_pull")]
+    for scope in [*scopes, ("door", "knob")]:
+        assert teacher_stage(wider, *scope) == teacher_stage(second, *scope)
+        assert teacher_stage(wider, *scope, True) == teacher_stage(second, *scope, True)
+    assert wider.pipeline.keep_better_retrain and wider.pipeline.retrain_own
+    student = stage_config(wider, launch, student_stage(wider))
+    before = stage_config(second, launch, student_stage(second))
+    assert (student.env.num_envs, before.env.num_envs) == (96, 64)
+    student.env.num_envs = 64
+    assert without_pipeline(student) == without_pipeline(before)
+
+
 @pytest.mark.parametrize("first_rate, retrain_rate, retrained, taught_by", [
     (0.82, 0.95, True, "teacher_knob_door_retrain"),  # round 16's seed 21, a better retrain
     (0.82, 0.80, True, "teacher_knob_door"),  # a worse retrain: the first teaches

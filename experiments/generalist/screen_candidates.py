@@ -82,6 +82,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # or that with knob doors' teacher at 200 iterations again and, below 0.9, a second one from
     # scratch, the better teaching
     "distilled_pairs_knob_second_teacher": ("pipeline=distilled_pairs_knob_second_teacher",),
+    # and the student's rollout on 96 envs in place of 64
+    "distilled_pairs_student_96": ("pipeline=distilled_pairs_student_96",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -101,5 +103,6 @@ ROUNDS = {
     15: ("distilled_pairs_knob_from_door",),
     16: ("distilled_pairs_student_doors2",),
     17: ("distilled_pairs_knob_second_teacher",),
+    18: ("distilled_pairs_student_96",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
