@@ -508,6 +508,9 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "retrain_below: 2}]", "pipeline.own_teachers[knob_door].retrain_below=2: use a rate"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
+         "retrain_below: high}]",
+         "pipeline.own_teachers[knob_door].retrain_below=high: use a rate"),
+        ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "retrain: {iterations: 0}}]", "pipeline.own_teachers[knob_door].retrain: iterations=0"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "retrain: {from_kind: 2}}]",

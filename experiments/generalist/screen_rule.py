@@ -1,17 +1,17 @@
 """The generalist screen's adoption rule, applied to a candidate's runs (written before them):
 adopt a candidate only if, on every seed run, every category x kind group's training success over
 the run's last full 25-iteration window is at least the round's mark (MARKS: LEARNED in round 1,
-0.8 in rounds 2 to 18, README.md).
+0.8 from round 2 on, README.md).
 
     python experiments/generalist/screen_rule.py RUN_DIR [RUN_DIR ...]              # round 1
     python experiments/generalist/screen_rule.py --mark 0.8 RUN_DIR [RUN_DIR ...]   # rounds 2-6
-    python experiments/generalist/screen_rule.py --mark 0.8 --pad-enters RUN_DIR ... # rounds 7-18
+    python experiments/generalist/screen_rule.py --mark 0.8 --pad-enters RUN_DIR ... # rounds 7 on
 
 A run's last full window is its last 25 iterations (iterations N - 25 .. N - 1 of a run that
 logged N); a group's value is the mean of its `/success/<category>_<kind>` entries there (an
 entry is that iteration's share of the group's finished episodes). A group with no entry in the
 window, or a run shorter than the window, fails (`realikea.training.metrics.last_window`). With
-`--pad-enters` (rounds 7 to 18) a finger-pull group is read on the episodes whose part's channel
+`--pad-enters` (rounds 7 on) a finger-pull group is read on the episodes whose part's channel
 the pad enters (`/pad_enters_success/finger_pull_<kind>`). Prints a row per run and the verdict;
 exit 0 when the candidate is adopted, 1 when not, 2 on bad input.
 """
@@ -22,13 +22,15 @@ import argparse
 import sys
 from pathlib import Path
 
+from screen_candidates import ROUNDS
+
 from realikea.assets.catalog import GROUPS
 from realikea.training.metrics import last_window
 
 LEARNED = 0.5
-# each screen round's mark: every group's least training success
-MARKS = {1: LEARNED} | {round_: 0.8 for round_ in range(2, 19)}
-PAD_ENTERS_ROUNDS = set(range(7, 19))  # rounds that read finger pulls on channels the pad enters
+# each registered screen round's mark: every group's least training success
+MARKS = {round_: LEARNED if round_ == 1 else 0.8 for round_ in ROUNDS}
+PAD_ENTERS_ROUNDS = {r for r in ROUNDS if r >= 7}  # finger pulls read on channels the pad enters
 
 
 def passes(values: dict[str, float | None], mark: float = LEARNED) -> bool:

@@ -110,21 +110,19 @@ def check_pipeline(cfg: DictConfig) -> None:
                 f"pipeline.{key}.overrides: {', '.join(map(str, set_by_stage))}; "
                 f"use key=value overrides of keys other than {', '.join(STAGE_KEYS)}"
             )
-    for key, spec in specs.items():
         if not isinstance(spec.get("from_kind", False), bool):
             raise RealIkeaError(f"pipeline.{key}.from_kind={spec.from_kind}: use true or false")
-    for group, spec in own.items():
-        if not 0.0 <= float(spec.get("retrain_below", 0.0)) <= 1.0:
-            raise RealIkeaError(
-                f"pipeline.own_teachers[{group}].retrain_below={spec.retrain_below}: use a rate "
-                "in [0, 1]"
-            )
-    for key, spec in specs.items():
         if int(spec.iterations) < 1 or not 0 <= int(spec.switch_iteration) <= int(spec.iterations):
             raise RealIkeaError(
                 f"pipeline.{key}: iterations={spec.iterations}, switch_iteration="
                 f"{spec.switch_iteration}; use iterations >= 1 and 0 <= switch_iteration <= "
                 "iterations"
+            )
+    for group, spec in own.items():
+        mark = spec.get("retrain_below", 0.0)
+        if isinstance(mark, bool) or not isinstance(mark, int | float) or not 0.0 <= mark <= 1.0:
+            raise RealIkeaError(
+                f"pipeline.own_teachers[{group}].retrain_below={mark}: use a rate in [0, 1]"
             )
     if not 0.0 <= float(pipeline.learned) <= 1.0:
         raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
@@ -439,9 +437,10 @@ class Pipeline:
         if stage.category:
             group = group_name(stage.category, stage.kind)
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
-            better = stage.name == retrain.name and self.cfg.pipeline.keep_better_retrain
+            is_retrain = stage.name == retrain.name
+            better = is_retrain and self.cfg.pipeline.keep_better_retrain
             self.offer(teachers, group, checkpoint, success, own=True, only_if_better=better)
-            named_first = group in own_teachers(self.cfg) and stage.name != retrain.name
+            named_first = group in own_teachers(self.cfg) and not is_retrain
             if not (self.cfg.pipeline.retrain_own and named_first):
                 return []
             return [retrain] if self.missed(success, group, retrain_mark(self.cfg, group)) else []
