@@ -73,3 +73,17 @@ def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_f
     report.main([])
     figures = json.loads((tmp_path / "aims.json").read_text())["hull_high/s210"]
     assert figures["aim_own"]["met"] is False
+
+
+def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(report, tmp_path):
+    write_cells(tmp_path / "default_group_ppo/s200", ("smooth", "high"))
+    (tmp_path / "hull_high_group_ppo").mkdir()
+    report.main(["--superseded", "group_ppo"])
+    figures = json.loads((tmp_path / "aims_group_ppo.json").read_text())
+    assert figures["default_group_ppo/s200"]["aim_coacd"]["met"] is True
+    assert "hull_high_group_ppo/s210" in figures and not (tmp_path / "aims.json").exists()
+    text = (tmp_path / "aims_group_ppo.md").read_text()
+    assert "`group_ppo`, superseded" in text and "default_group_ppo/s200/learning_curve" in text
+    with pytest.raises(SystemExit):  # no such recipe's folders: refused, nothing written
+        report.main(["--superseded", "bogus"])
+    assert not (tmp_path / "aims_bogus.json").exists()

@@ -26,10 +26,13 @@ def test_each_group_gets_mean_zero_and_unit_std():
     assert float(whole[:, :3].std()) < 0.1
 
 
-def test_the_library_draw_trains_multi_task_ppo_and_one_category_the_single_task_recipe():
-    """asset=all (python train.py's draw) selects agent=multitask, the generalist screen's
-    adopted group_ppo; one category, or agent=ppo on the command line, keeps ppo.yaml."""
-    library = runner_config(load_config())
+def test_the_library_draw_trains_in_stages_one_run_of_it_multi_task_ppo_one_category_single():
+    """asset=all (python train.py's draw) selects the generalist screen's adopted pipeline and,
+    for one run of it (pipeline=none), agent=multitask, round 1's group_ppo; one category, or
+    agent=ppo on the command line, keeps ppo.yaml as one run."""
+    assert load_config().pipeline.name == "distilled_pairs_student_96"
+    assert load_config(["asset=two_point"]).pipeline.name == "none"
+    library = runner_config(load_config(["pipeline=none"]))
     assert library["algorithm"]["class_name"] == GROUP_PPO
     assert library["num_steps_per_env"] == 48
     assert (library["algorithm"]["schedule"], library["algorithm"]["learning_rate"]) == (

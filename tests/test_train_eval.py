@@ -253,8 +253,10 @@ def test_realikea_train_composes_what_train_py_composes(train_py_job):
 
 
 def test_a_generalist_trains_two_iterations_on_a_mixed_draw_of_kinds(tmp_path):
-    """asset=all draws by turns over category x kind: one part on a drawer, a door and the flap."""
-    args = ["asset.part=tp_round_bar_128", "dr=fixed", "env.num_envs=3", "env.num_workers=0"]
+    """asset=all draws by turns over category x kind: one part on a drawer, a door and the flap
+    (one run of it: pipeline=none; tests/test_training_pipeline.py trains its stages)."""
+    args = ["pipeline=none", "asset.part=tp_round_bar_128", "dr=fixed", "env.num_envs=3"]
+    args += ["env.num_workers=0"]
     args += ["task.episode_seconds=1.5", "logger=none", "agent.max_iterations=2"]
     args += ["agent.num_steps_per_env=8", f"paths.library={tmp_path / 'library'}"]
     args += ["agent.init_at_random_ep_len=false"]  # every first episode ends at step 15

@@ -289,6 +289,25 @@ def test_round_eighteens_stages_are_round_seventeens_but_the_students_envs():
     assert without_pipeline(student) == without_pipeline(before)
 
 
+def test_python_train_py_trains_round_eighteens_stages_and_the_design_cards_on_its_hull():
+    """The adopted default: `python train.py` (asset=all) composes round 18's pipeline, and each
+    of its stages is the one the screen's `pipeline=distilled_pairs_student_96` launch trained;
+    the design card's overrides reach every stage."""
+    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_student_96"]
+    default, named = load_config(LAUNCH[1:]), load_config(screen)
+    assert default.pipeline == named.pipeline
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "knob"), ("door", "finger_pull")]
+    stages = [student_stage(default), *(teacher_stage(default, *scope) for scope in scopes)]
+    for stage in stages:
+        assert without_pipeline(stage_config(default, LAUNCH[1:], stage)) == without_pipeline(
+            stage_config(named, screen, stage)
+        )
+    card = [*LAUNCH[1:], "collision=hull", "resistance=high"]
+    for stage in stages:
+        staged = stage_config(load_config(card), card, stage)
+        assert (staged.collision.source, staged.resistance.name) == ("hull", "high")
+
+
 @pytest.mark.parametrize("first_rate, retrain_rate, retrained, taught_by", [
     (0.82, 0.95, True, "teacher_knob_door_retrain"),  # round 16's seed 21, a better retrain
     (0.82, 0.80, True, "teacher_knob_door"),  # a worse retrain: the first teaches
@@ -534,6 +553,14 @@ def test_bad_settings_are_refused_naming_the_key(override, message):
 def test_a_length_of_the_launch_is_refused_naming_the_stages_settings():
     launch = [*LAUNCH, "agent.max_iterations=100"]
     with pytest.raises(RealIkeaError, match="set pipeline.teacher.iterations"):
+        check_launch(load_config(launch), launch)
+
+
+def test_teachers_given_to_the_default_launch_are_refused_naming_one_run():
+    """python train.py trains a pipeline: teachers on its command line would reach every stage
+    (the teachers' too), so the launch is refused and pointed at a single distillation run."""
+    launch = ["logger=none", "distill.teachers={knob_door: RUN/model_399.pt}"]
+    with pytest.raises(RealIkeaError, match="distill.teachers: .* set pipeline=none"):
         check_launch(load_config(launch), launch)
 
 

@@ -25,7 +25,6 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from train_gated import RECIPES as GATED_RECIPES
 from train_gated import RESULTS, kept_dir
 
 from realikea.assets.catalog import CATEGORIES
@@ -39,7 +38,9 @@ from realikea.training.queue import QueuedRun, RunQueue, keep_run
 
 PARKED = RESULTS / "aims_parked"
 WORK = WORKSPACE / "outputs/generalist_aims"
-RECIPES = {name: tuple(GATED_RECIPES[name]) for name in ("default", "hull_high")}
+# python train.py's defaults (a pipeline of teachers and one student: realikea/conf/asset/all.yaml);
+# the superseded round-1 default's runs of these seeds are in results/<recipe>_group_ppo/
+RECIPES = {"default": (), "hull_high": ("collision=hull", "resistance=high")}
 SEEDS = {"default": (200, 201, 202), "hull_high": (210, 211, 212)}
 # evaluations of a kept run: results folder suffix -> (resistance modes, extra eval overrides)
 EVALUATIONS = {

@@ -4,9 +4,12 @@ experiments/generalist/results/aims.md, and aims.json for the docs' quotes (each
 and interval under `<recipe>/s<seed>.rates.<coacd|own>.<category>_<kind>.<mode>`).
 
     python experiments/generalist/aims_report.py
+    python experiments/generalist/aims_report.py --superseded group_ppo  # aims_group_ppo.md, .json
 
 Reads what `aims.py` kept and evaluated: results/<recipe>/s<seed>/ (cells.jsonl, wall.json,
-learning_curve.png) and, for `hull_high`, results/hull_high/s<seed>_own/cells.jsonl. Point
+learning_curve.png) and, for `hull_high`, results/hull_high/s<seed>_own/cells.jsonl; with
+`--superseded NAME`, the aim runs of a recipe the defaults no longer train, kept in
+results/<recipe>_NAME/ (their paths in aims_NAME.json: `<recipe>_NAME/s<seed>...`). Point
 estimates are held to the marks (the issue's aims); the Wilson 95 % interval stands beside each.
 A group the registered hull finger-pull door check could not open (`hull_fp_door.py`: below
 HULL_FP_DOOR_MARK on its own hull) is reported but left out of the design card's own-hull aim.
@@ -80,9 +83,13 @@ def wall_hours(folder: Path) -> float | None:
     return sum(json.loads(wall.read_text())["launches_seconds"]) / 3600
 
 
-def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str], dict]:
-    """One seed's table (9 groups x each evaluation's modes) and its verdicts."""
-    run = RESULTS / recipe / f"s{seed}"
+def seed_section(
+    recipe: str, seed: int, opened: bool | None, superseded: str = ""
+) -> tuple[list[str], dict]:
+    """One seed's table (9 groups x each evaluation's modes) and its verdicts; `superseded`: the
+    run of that superseded recipe (results/<recipe>_<superseded>/)."""
+    folder = f"{recipe}_{superseded}" if superseded else recipe
+    run = RESULTS / folder / f"s{seed}"
     hours = wall_hours(run)
     within = None if hours is None else hours <= WALL_HOURS
     figures: dict = {"wall_hours": hours, "within_time": within, "rates": {}}
@@ -113,8 +120,8 @@ def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str]
             row.append(f"{value:.2f} [{lo:.2f}, {hi:.2f}]{flag}")
         rows.append(row)
     time = "not kept yet" if hours is None else f"{hours * 60:.1f} min (`wall.json`)"
-    curve = f"{recipe}/s{seed}/learning_curve.png"
-    lines = [f"### `{recipe}` seed {seed}", "", f"Wall time: {time}; [learning curve]({curve})", ""]
+    curve = f"{folder}/s{seed}/learning_curve.png"
+    lines = [f"### `{folder}` seed {seed}", "", f"Wall time: {time}; [learning curve]({curve})", ""]
     lines += [*table(header, "l" * len(header), rows), ""]
     for key, aim in figures.items():
         if key.startswith("aim"):
@@ -126,11 +133,19 @@ def seed_section(recipe: str, seed: int, opened: bool | None) -> tuple[list[str]
 
 
 def main(argv: list[str] | None = None) -> None:
-    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--superseded", metavar="NAME", default="", help="a superseded recipe: <recipe>_NAME/"
+    )
+    superseded = parser.parse_args(argv).superseded
+    folders = [RESULTS / f"{recipe}_{superseded}" for recipe in SEEDS]
+    if superseded and not all(folder.is_dir() for folder in folders):
+        parser.error(f"--superseded {superseded}: no folder {' or '.join(map(str, folders))}")
     opened = hull_fp_door_opened()
     check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
+    title = f": `{superseded}`, superseded" if superseded else ""
     lines = [
-        "# The generalist's aims, per seed",
+        f"# The generalist's aims, per seed{title}",
         "",
         "`python experiments/generalist/aims_report.py`: held-out (test) parts, kitchen, 50 "
         "randomized episodes a cell on draw `env.seed=1000`; success with its Wilson 95 % "
@@ -143,11 +158,12 @@ def main(argv: list[str] | None = None) -> None:
     out = {}
     for recipe, seeds in SEEDS.items():
         for seed in seeds:
-            section, figures = seed_section(recipe, seed, opened)
+            section, figures = seed_section(recipe, seed, opened, superseded)
             lines += section
-            out[f"{recipe}/s{seed}"] = figures
-    atomic_write_text(RESULTS / "aims.md", "\n".join(lines))
-    atomic_write_text(RESULTS / "aims.json", json.dumps(out, indent=1) + "\n")
+            out[f"{recipe}_{superseded}/s{seed}" if superseded else f"{recipe}/s{seed}"] = figures
+    name = f"aims_{superseded}" if superseded else "aims"
+    atomic_write_text(RESULTS / f"{name}.md", "\n".join(lines))
+    atomic_write_text(RESULTS / f"{name}.json", json.dumps(out, indent=1) + "\n")
     print("\n".join(lines))
 
 

@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 HERE=experiments/generalist
 for seed in 0 2; do
-  python train.py logger=none agent=ppo env.seed="$seed" env.num_workers=1 agent.save_interval=25 \
+  python train.py logger=none pipeline=none agent=ppo env.seed="$seed" env.num_workers=1 agent.save_interval=25 \
     train.resume="outputs/generalist/default_s$seed/model_1499.pt" agent.max_iterations=1000 \
     hydra.run.dir="outputs/generalist/default_s${seed}_cont" > "outputs/generalist/default_s${seed}_cont.log" 2>&1 &
 done

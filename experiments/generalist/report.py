@@ -8,7 +8,8 @@ kind and over every cell, then the named differences per cell and pooled with Ne
 interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
 latter also on its own hull geometry, hull_high/s<seed>_own/; seeds 0-2 superseded, the aims'
-seeds from aims.py); default_doors2/s<seed>/ and default/s<seed>_2500/ against the default per
+seeds from aims.py, and those of the superseded round-1 default in default_group_ppo/ and
+hull_high_group_ppo/); default_doors2/s<seed>/ and default/s<seed>_2500/ against the default per
 seed on the door kind, default_follow/s<seed>/ on all cells pooled (the comparisons named before
 those runs); the door specialists (doors/s<seed>/) on the door cells.
 """
@@ -31,6 +32,8 @@ from realikea.sim.resistance import MODES
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 SUPERSEDED_SEEDS = (0, 1, 2)  # the single-task generalists (train_gated.py)
+ITERATIONS = "1,500 iterations"
+STAGED = "teachers then a student of 400 iterations"
 
 GRIDS = {  # folder -> what was trained
     "coacd": "CoACD, w_open2 = 2, 1,500 iterations",
@@ -38,49 +41,70 @@ GRIDS = {  # folder -> what was trained
     "coacd_2500": "CoACD, w_open2 = 2, continued to 2,500 iterations",
     "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
     "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
-    **{  # the superseded single-task generalists (seeds 0-2) and the aims' (aims.py, since the
-        # screen's adoption: python train.py's defaults, agent=multitask)
-        f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, 1,500 iterations"
-        for recipe, what, seeds in (
+    **{  # the superseded single-task generalists (seeds 0-2), the superseded multi-task ones of
+        # the aims' seeds (round 1's adopted group_ppo) and the aims' (aims.py, since round 18's
+        # adoption: python train.py's defaults, a pipeline of teachers and one student)
+        f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, {length}"
+        for recipe, what, seeds, length in (
             (
                 "default",
-                "the superseded default (`python train.py agent=ppo`: CoACD, normal, "
+                "the superseded default (`python train.py pipeline=none agent=ppo`: CoACD, normal, "
                 "`gated`, the single-task agent)",
                 SUPERSEDED_SEEDS,
+                ITERATIONS,
             ),
             (
                 "hull_high",
                 "the design card's `python train.py collision=hull resistance=high` "
                 "on the superseded single-task agent",
                 SUPERSEDED_SEEDS,
+                ITERATIONS,
             ),
             (
                 "default_doors2",
                 "the superseded default with door groups drawn twice as often "
                 "(`asset.group_weights={door:2}`)",
                 SUPERSEDED_SEEDS,
+                ITERATIONS,
             ),
             (
                 "default_follow",
                 "the superseded default with a draw that follows training success "
                 "(`asset.follow_success={every:50,below:0.5,weight:3}`)",
                 SUPERSEDED_SEEDS,
+                ITERATIONS,
+            ),
+            (
+                "default_group_ppo",
+                "the superseded default of round 1 (`python train.py pipeline=none`: CoACD, "
+                "normal, `gated`, `agent=multitask`)",
+                AIM_SEEDS["default"],
+                ITERATIONS,
+            ),
+            (
+                "hull_high_group_ppo",
+                "the design card's `python train.py collision=hull resistance=high` on the "
+                "superseded default of round 1 (`pipeline=none`, `agent=multitask`)",
+                AIM_SEEDS["hull_high"],
+                ITERATIONS,
             ),
             (
                 "default",
                 "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-                "`agent=multitask`)",
+                "`pipeline=distilled_pairs_student_96`)",
                 AIM_SEEDS["default"],
+                STAGED,
             ),
             (
                 "hull_high",
                 "the design card's `python train.py collision=hull resistance=high` "
-                "(`agent=multitask`)",
+                "(`pipeline=distilled_pairs_student_96`)",
                 AIM_SEEDS["hull_high"],
+                STAGED,
             ),
         )  # fmt: skip
         for seed in seeds
-        for own in (("", "_own") if recipe == "hull_high" else ("",))
+        for own in (("", "_own") if recipe.startswith("hull_high") else ("",))
     },
     **{
         f"default/s{seed}_2500": f"the superseded default, seed {seed}, continued to 2,500 "

@@ -11,9 +11,9 @@ cd "$(dirname "$0")/../.."
 EPISODES="${1:-50}"
 HERE=experiments/generalist
 OUT=$HERE/results
-# the recipe these runs were trained with: the single-task agent, the appendix reward (latched),
-# every env in lockstep
-APPENDIX="agent=ppo task/reward=appendix agent.init_at_random_ep_len=false"
+# the recipe these runs were trained with: one run of the single-task agent, the appendix reward
+# (latched), every env in lockstep
+APPENDIX="pipeline=none agent=ppo task/reward=appendix agent.init_at_random_ep_len=false"
 python train.py logger=none $APPENDIX hydra.run.dir=outputs/generalist/coacd_s0 &
 python train.py logger=none $APPENDIX collision=hull hydra.run.dir=outputs/generalist/hull_s0 &
 wait

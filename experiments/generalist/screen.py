@@ -34,6 +34,7 @@ from screen_candidates import (
     CANDIDATES,
     COMMON,
     DISTILLED,
+    ONE_RUN,
     ROUND_1,
     ROUNDS,
     SINGLE_RUN,
@@ -67,7 +68,7 @@ def single_run(candidate: str, seed: int) -> QueuedRun:
     overrides, iterations = SINGLE_RUN[candidate]
     return QueuedRun(
         run_name(candidate, seed),
-        (*COMMON, *overrides, f"env.seed={seed}", f"agent.max_iterations={iterations}"),
+        (*COMMON, *ONE_RUN, *overrides, f"env.seed={seed}", f"agent.max_iterations={iterations}"),
         iterations,
     )
 
@@ -91,8 +92,9 @@ def teacher_run(candidate: str, seed: int, kind: str, category: str = "") -> Que
     scope = (f"asset={category}",) if category else ()
     return QueuedRun(
         run_name(candidate, seed, f"teacher_{group or kind}"),
-        (*COMMON, *ROUND_1, *extra, *scope, f"asset.kind={kind}", f"env.seed={trained_on}",
-         f"agent.max_iterations={iterations}", f"dr.switch_iteration={switch}"),
+        (*COMMON, *ONE_RUN, *ROUND_1, *extra, *scope, f"asset.kind={kind}",
+         f"env.seed={trained_on}", f"agent.max_iterations={iterations}",
+         f"dr.switch_iteration={switch}"),
         iterations,
     )  # fmt: skip
 
@@ -101,7 +103,7 @@ def student_run(candidate: str, seed: int, teachers: dict[str, Path]) -> QueuedR
     listed = ", ".join(f"{group}: {path}" for group, path in teachers.items())
     return QueuedRun(
         run_name(candidate, seed, "student"),
-        (*COMMON, *ROUND_1, *DISTILLED[candidate][0], f"distill.teachers={{{listed}}}",
+        (*COMMON, *ONE_RUN, *ROUND_1, *DISTILLED[candidate][0], f"distill.teachers={{{listed}}}",
          f"env.seed={seed}", f"agent.max_iterations={STUDENT_ITERATIONS}",
          "dr.switch_iteration=0"),
         STUDENT_ITERATIONS,

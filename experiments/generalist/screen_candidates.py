@@ -5,6 +5,10 @@ trains them.
 """
 
 COMMON = ("logger=none",)
+# a candidate's single run, and each run of a candidate the screen drives stage by stage: one
+# training run (the library draw's default became a pipeline, round 18's adopted
+# distilled_pairs_student_96, after the screen)
+ONE_RUN = ("pipeline=none",)
 # round 1 ran on python train.py's defaults of its day: the library's draw, CoACD, normal and the
 # single-task agent (the library draw's default became agent=multitask, round 1's adopted
 # group_ppo, after it); later rounds run on the defaults round 1 left

@@ -6,8 +6,9 @@ metrics, the launches' wall times, the Hydra config, the learning curve).
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --dry-run
     python experiments/generalist/train_gated.py --recipes hull_high --seeds 0 --park  # into git
 
-Recipes: `default` is `python train.py` (CoACD, normal, every category and kind, 1,500
-iterations); `hull_high` the design card's `python train.py collision=hull resistance=high`;
+Recipes, each one training run (`pipeline=none`): `default` is `python train.py` of its day
+(CoACD, normal, every category and kind, the single-task agent, 1,500 iterations); `hull_high`
+the design card's `python train.py collision=hull resistance=high` of its day;
 `default_doors2` the default with twice the draw's turns for door groups (`asset.group_weights`);
 `default_follow` the default with a draw that follows training success
 (`asset.follow_success`); `doors` door specialists (the default on doors only, 600 iterations);
@@ -43,11 +44,11 @@ KNOB_TEACHER = [
     "agent.max_iterations=400",
     "dr.switch_iteration=200",
 ]
-# the variants below were run, and stay, on the single-task agent (agent=ppo), the default of
-# their day; `default` and `hull_high` are whatever python train.py's defaults are
+# every recipe was run, and stays, on the single-task agent (agent=ppo) as one run, the
+# defaults of its day (python train.py now trains a pipeline: aims.py trains it)
 RECIPES = {
-    "default": [],
-    "hull_high": ["collision=hull", "resistance=high"],
+    "default": ["agent=ppo"],
+    "hull_high": ["agent=ppo", "collision=hull", "resistance=high"],
     # the default with each door group drawn twice as often (about 11 of the 64 envs, the others
     # 5-6): doors are learned last, or never, in the default's seeds
     "default_doors2": ["agent=ppo", "asset.group_weights={door:2}"],
@@ -87,8 +88,8 @@ RECIPES = {
 
 def generalist_run(recipe: str, seed: int) -> QueuedRun:
     # checkpoints every 25 iterations: a session stopped mid-run loses little when it resumes
-    overrides = (*RECIPES[recipe], f"env.seed={seed}", "logger=none", "env.num_workers=1",
-                 "agent.save_interval=25")  # fmt: skip
+    overrides = (*RECIPES[recipe], "pipeline=none", f"env.seed={seed}", "logger=none",
+                 "env.num_workers=1", "agent.save_interval=25")  # fmt: skip
     return QueuedRun(f"{recipe}_s{seed}", overrides, recipe_length(RECIPES[recipe]))
 
 

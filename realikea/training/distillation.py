@@ -1,7 +1,7 @@
 """Per-group teachers distilled into one student: DAgger with rsl-rl's `Distillation`, each env's
 action label given by the teacher of its category x kind group (`distill.teachers`).
 
-    python train.py 'distill.teachers={knob_door: RUN/model_599.pt, two_point_door: ...}'
+    python train.py pipeline=none 'distill.teachers={knob_door: RUN/model_599.pt, ...}'
 
 Why: one PPO policy over the nine groups can lose a group it had learned while the others come
 up, whereas single-group specialists learn their groups reliably; distilling specialists into

@@ -61,6 +61,7 @@ LAUNCH_ONLY = ("pipeline", "train.resume", "train.eval_after")
 STAGE_SET = {
     "agent.max_iterations": "pipeline.teacher.iterations, pipeline.student.iterations, ...",
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
+    "distill.teachers": "pipeline=none to distil the teachers given in one run",
 }
 STUDENT = "student"
 # the keys a stage sets itself, which its own overrides (a group teacher's, the student's) may not
