@@ -138,9 +138,10 @@ def main(argv: list[str] | None = None) -> None:
         "--superseded", metavar="NAME", default="", help="a superseded recipe: <recipe>_NAME/"
     )
     superseded = parser.parse_args(argv).superseded
-    folders = [RESULTS / f"{recipe}_{superseded}" for recipe in SEEDS]
-    if superseded and not all(folder.is_dir() for folder in folders):
-        parser.error(f"--superseded {superseded}: no folder {' or '.join(map(str, folders))}")
+    missing = [RESULTS / f"{recipe}_{superseded}" for recipe in SEEDS if superseded]
+    missing = [str(folder) for folder in missing if not folder.is_dir()]
+    if missing:
+        parser.error(f"--superseded {superseded}: no folder {', '.join(missing)}")
     opened = hull_fp_door_opened()
     check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
     title = f": `{superseded}`, superseded" if superseded else ""
