@@ -84,11 +84,10 @@ def wall_hours(folder: Path) -> float | None:
 
 
 def seed_section(
-    recipe: str, seed: int, opened: bool | None, superseded: str = ""
+    recipe: str, seed: int, opened: bool | None, folder: str
 ) -> tuple[list[str], dict]:
-    """One seed's table (9 groups x each evaluation's modes) and its verdicts; `superseded`: the
-    run of that superseded recipe (results/<recipe>_<superseded>/)."""
-    folder = f"{recipe}_{superseded}" if superseded else recipe
+    """One seed's table (9 groups x each evaluation's modes) and its verdicts, from the recipe's
+    run in results/<folder>/s<seed>/."""
     run = RESULTS / folder / f"s{seed}"
     hours = wall_hours(run)
     within = None if hours is None else hours <= WALL_HOURS
@@ -138,9 +137,9 @@ def main(argv: list[str] | None = None) -> None:
         "--superseded", metavar="NAME", default="", help="a superseded recipe: <recipe>_NAME/"
     )
     superseded = parser.parse_args(argv).superseded
-    missing = [RESULTS / f"{recipe}_{superseded}" for recipe in SEEDS if superseded]
-    missing = [str(folder) for folder in missing if not folder.is_dir()]
-    if missing:
+    folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
+    missing = [str(RESULTS / f) for f in folders.values() if not (RESULTS / f).is_dir()]
+    if superseded and missing:
         parser.error(f"--superseded {superseded}: no folder {', '.join(missing)}")
     opened = hull_fp_door_opened()
     check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
@@ -159,9 +158,9 @@ def main(argv: list[str] | None = None) -> None:
     out = {}
     for recipe, seeds in SEEDS.items():
         for seed in seeds:
-            section, figures = seed_section(recipe, seed, opened, superseded)
+            section, figures = seed_section(recipe, seed, opened, folders[recipe])
             lines += section
-            out[f"{recipe}_{superseded}/s{seed}" if superseded else f"{recipe}/s{seed}"] = figures
+            out[f"{folders[recipe]}/s{seed}"] = figures
     name = f"aims_{superseded}" if superseded else "aims"
     atomic_write_text(RESULTS / f"{name}.md", "\n".join(lines))
     atomic_write_text(RESULTS / f"{name}.json", json.dumps(out, indent=1) + "\n")

@@ -57,7 +57,8 @@ from realikea.training.train import check_inputs, env_groups, train
 PIPELINES = tuple(sorted(path.stem for path in (CONF_DIR / "pipeline").glob("*.yaml")))
 # launch overrides no stage takes: the pipeline's own keys, its resume folder and its evaluation
 LAUNCH_ONLY = ("pipeline", "train.resume", "train.eval_after")
-# launch overrides a pipeline refuses (every stage sets them) -> the settings to use instead
+# launch overrides a pipeline refuses (its stages set them, or a teacher must not take them) ->
+# the settings to use instead
 STAGE_SET = {
     "agent.max_iterations": "pipeline.teacher.iterations, pipeline.student.iterations, ...",
     "dr.switch_iteration": "pipeline.teacher.switch_iteration, ...",
