@@ -21,10 +21,13 @@ from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.files import WORKSPACE
 from realikea.policies.checkpoint import CheckpointPolicy
+from realikea.training import pipeline as pipeline_module
 from realikea.training.pipeline import (
     Pipeline,
     check_launch,
     check_pipeline,
+    check_stages,
+    fine_tune_stage,
     longest_first,
     stage_config,
     student_stage,
@@ -289,6 +292,133 @@ def test_round_eighteens_stages_are_round_seventeens_but_the_students_envs():
     assert without_pipeline(student) == without_pipeline(before)
 
 
+def test_round_nineteens_stages_are_round_eighteens_plus_fine_tunes_and_a_second_specialist():
+    """pipeline=distilled_pairs_fine_tune: round 18's teachers (so a seed's can be copied from
+    its kept run) and student; a group's fine-tune is knob doors' teacher from the door teacher
+    on that group, and the finger-pull door specialist's retrain is the specialist on the next
+    seed."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_fine_tune"]
+    held = load_config(launch)
+    before = load_config([*LAUNCH, "pipeline=distilled_pairs_student_96"])
+    scopes = [("drawer",), ("door",), ("flap",), ("door", "finger_pull"), ("door", "knob")]
+    for scope in scopes:
+        assert teacher_stage(held, *scope) == teacher_stage(before, *scope)
+    assert teacher_stage(held, "door", "knob", True) == teacher_stage(before, "door", "knob", True)
+    assert without_pipeline(stage_config(held, launch, student_stage(held))) == without_pipeline(
+        stage_config(before, launch, student_stage(before))
+    )
+    knob = without_pipeline(stage_config(held, launch, teacher_stage(held, "door", "knob")))
+    fine = fine_tune_stage(held, "door", "two_point")
+    assert (fine.name, fine.starts_from) == ("teacher_two_point_door_fine_tuned", "teacher_door")
+    tuned = without_pipeline(stage_config(held, launch, fine))
+    assert tuned.pop("asset")["category"] == "two_point" and knob.pop("asset")["category"] == "knob"
+    assert tuned == knob
+    specialist = teacher_stage(held, "door", "finger_pull")
+    again = teacher_stage(held, "door", "finger_pull", True)
+    assert again.overrides == tuple(
+        o.replace("env.seed=20", "env.seed=21") for o in specialist.overrides
+    )
+    assert held.pipeline.retrain_own and held.pipeline.keep_better_retrain
+
+
+@pytest.mark.parametrize("kind_rate, tuned_rate, made_ready, taught_by", [
+    (0.83, 0.95, True, "teacher_two_point_drawer_fine_tuned"),  # the aims' seed 200's drawers
+    (0.83, 0.80, True, "teacher_drawer"),  # a worse fine-tune: the kind's teacher teaches
+    (0.83, 0.83, True, "teacher_two_point_drawer_fine_tuned"),  # equal: the group's own
+    (0.90, None, False, "teacher_drawer"),  # at the mark: no fine-tune
+    (0.40, None, False, "teacher_two_point_drawer"),  # below the teacher rule: its own teacher
+])  # fmt: skip
+def test_a_group_its_kinds_teacher_leaves_short_of_the_mark_gets_a_fine_tune_if_it_helps(
+    tmp_path, kind_rate, tuned_rate, made_ready, taught_by
+):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_fine_tune"]
+    cfg = load_config(launch)
+    line, teachers, group = Pipeline(cfg, launch, tmp_path), {}, "two_point_drawer"
+    drawer, fine = teacher_stage(cfg, "drawer"), fine_tune_stage(cfg, "drawer", "two_point")
+    checkpoint = log_success(tmp_path / drawer.name, group, kind_rate)
+    ready = line.taught(drawer, checkpoint, [group], teachers)
+    if made_ready:
+        assert ready == [fine]
+        checkpoint = log_success(tmp_path / fine.name, group, tuned_rate)
+        assert line.taught(fine, checkpoint, [group], teachers) == []
+    elif kind_rate < cfg.pipeline.learned:
+        assert ready == [teacher_stage(cfg, "drawer", "two_point")]
+        checkpoint = log_success(tmp_path / taught_by, group, 0.7)
+        line.taught(ready[0], checkpoint, [group], teachers)
+    else:
+        assert ready == []
+    assert teachers == {group: tmp_path / taught_by / "model_399.pt"}
+
+
+def test_a_group_with_a_teacher_of_its_own_gets_no_fine_tune(tmp_path):
+    """Knob doors (from the door teacher) and finger-pull doors (the specialist) have their
+    own teachers, so the door teacher leaving them short makes no fine-tune."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_fine_tune"]
+    cfg = load_config(launch)
+    line, door = Pipeline(cfg, launch, tmp_path), teacher_stage(cfg, "door")
+    groups = ["knob_door", "two_point_door", "finger_pull_door"]
+    folder = tmp_path / door.name
+    folder.mkdir()
+    rows = [f"{i},/success/{g},0.6" for i in range(25) for g in groups]
+    (folder / "metrics.csv").write_text("\n".join(["iteration,tag,value", *rows]) + "\n")
+    ready = line.taught(door, folder / "model_399.pt", groups, {})
+    assert ready == [fine_tune_stage(cfg, "door", "two_point"), teacher_stage(cfg, "door", "knob")]
+
+
+@pytest.mark.parametrize("first_rate, retrain_rate, taught_by", [
+    (0.52, 0.95, "teacher_finger_pull_door_retrain"),  # the aims' seed 200: 0.52
+    (0.52, 0.40, "teacher_finger_pull_door"),  # a worse second: the first teaches
+    (0.95, None, "teacher_finger_pull_door"),  # at 0.9 or more: no second
+])  # fmt: skip
+def test_round_nineteens_finger_pull_door_specialist_below_0_9_gets_a_second(
+    tmp_path, first_rate, retrain_rate, taught_by
+):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_fine_tune"]
+    cfg = load_config(launch)
+    line, teachers, group = Pipeline(cfg, launch, tmp_path), {}, "finger_pull_door"
+    first = teacher_stage(cfg, "door", "finger_pull")
+    again = teacher_stage(cfg, "door", "finger_pull", True)
+    checkpoint = log_success(tmp_path / first.name, group, first_rate)
+    ready = line.taught(first, checkpoint, [group], teachers)
+    assert ready == ([again] if retrain_rate is not None else [])
+    if ready:
+        checkpoint = log_success(tmp_path / again.name, group, retrain_rate)
+        assert line.taught(again, checkpoint, [group], teachers) == []
+    assert teachers == {group: tmp_path / taught_by / f"model_{first.iterations - 1}.pt"}
+
+
+def test_a_fine_tune_starts_from_its_kinds_teachers_actor_on_the_launchs_seed(tmp_path):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_fine_tune"]
+    cfg = load_config(launch)
+    _, _, stage_cfg, _ = Pipeline(cfg, launch, tmp_path).prepare(
+        fine_tune_stage(cfg, "flap", "finger_pull"), None
+    )
+    assert stage_cfg.train.init_actor == str(tmp_path / "teacher_flap/model_399.pt")
+    assert (stage_cfg.env.seed, stage_cfg.agent.max_iterations) == (20, 200)
+    assert (stage_cfg.asset.category, stage_cfg.asset.kind) == ("finger_pull", "flap")
+
+
+@pytest.mark.parametrize("pipeline, named", [
+    ("distilled_pairs_fine_tune", {"knob_door", "finger_pull_door"}),
+    ("distilled_pairs_student_96", set(GROUPS)),  # no fine_tune.below: none
+])  # fmt: skip
+def test_every_fine_tune_the_launch_may_train_is_checked_at_launch(monkeypatch, pipeline, named):
+    """check_stages checks the fine-tune of each group without a teacher of its own."""
+    checked, compose = [], pipeline_module.stage_config
+
+    def composed(cfg, launch, stage, teachers=None):
+        checked.append(stage.name)
+        return compose(cfg, launch, stage, teachers)
+
+    monkeypatch.setattr(pipeline_module, "stage_config", composed)
+    monkeypatch.setattr(pipeline_module, "check_inputs", lambda cfg: cfg)
+    monkeypatch.setattr(pipeline_module, "env_groups", lambda cfg: list(GROUPS))
+    launch = [*LAUNCH, f"pipeline={pipeline}"]
+    check_stages(load_config(launch), launch)
+    tuned = {name for name in checked if name.endswith("_fine_tuned")}
+    assert tuned == {f"teacher_{group}_fine_tuned" for group in set(GROUPS) - named}
+
+
 def test_python_train_py_trains_round_eighteens_stages_and_the_design_cards_on_its_hull():
     """The adopted default: `python train.py` (asset=all) composes round 18's pipeline, and each
     of its stages is the one the screen's `pipeline=distilled_pairs_student_96` launch trained;
@@ -538,6 +668,10 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),
+        ("pipeline.fine_tune.below=2", "pipeline.fine_tune.below=2: use a rate in"),
+        ("pipeline.fine_tune.below=true", "pipeline.fine_tune.below=True: use a rate in"),
+        ("+pipeline.fine_tune.overrides=['env.seed=3']", "pipeline.fine_tune.overrides: env.seed"),
+        ("pipeline.fine_tune.iterations=0", "pipeline.fine_tune: iterations=0"),
         ("pipeline.retrain_own=sometimes", "pipeline.retrain_own=sometimes: use true or false"),
         ("pipeline.best_teacher=yes", "pipeline.best_teacher=yes: use true or false"),
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),

@@ -88,6 +88,10 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_knob_second_teacher": ("pipeline=distilled_pairs_knob_second_teacher",),
     # and the student's rollout on 96 envs in place of 64
     "distilled_pairs_student_96": ("pipeline=distilled_pairs_student_96",),
+    # and every teacher held to 0.9: a group its kind's teacher leaves between 0.5 and 0.9
+    # fine-tuned from that teacher, a finger-pull door specialist below 0.9 trained again, each
+    # teaching only if better
+    "distilled_pairs_fine_tune": ("pipeline=distilled_pairs_fine_tune",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -108,5 +112,6 @@ ROUNDS = {
     16: ("distilled_pairs_student_doors2",),
     17: ("distilled_pairs_knob_second_teacher",),
     18: ("distilled_pairs_student_96",),
+    19: ("distilled_pairs_fine_tune",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -1,7 +1,8 @@
 """One policy for a draw over several category x kind groups, trained in stages
 (`pipeline=distilled`, realikea/conf/pipeline/distilled.yaml): a teacher per kind, a group's own
 teacher where the pipeline names one or its kind's teacher missed it (and, with
-`pipeline.retrain_own`, a named one again on the next seed where it missed), then every group's
+`pipeline.retrain_own`, a named one again on the next seed where it missed; with
+`pipeline.fine_tune`, its kind's teacher trained on to a group it left short), then every group's
 teacher (with `pipeline.best_teacher`, the one of its teachers with the highest training success
 on it) distilled into one student, the launch's one checkpoint.
 
@@ -68,6 +69,7 @@ STUDENT = "student"
 # the keys a stage sets itself, which its own overrides (a group teacher's, the student's) may not
 STAGE_KEYS = ("asset", "asset.kind", "env.seed", *STAGE_SET)
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
+FINE_TUNED = "_fine_tuned"  # the suffix of a kind teacher trained on one group (`fine_tune`)
 
 
 @dataclass(frozen=True)
@@ -102,7 +104,7 @@ def check_pipeline(cfg: DictConfig) -> None:
         raise RealIkeaError(
             f"pipeline.own_teachers: unknown group {', '.join(unknown)}; use {', '.join(GROUPS)}"
         )
-    specs = {"teacher": pipeline.teacher, "student": pipeline.student}
+    specs = {key: pipeline[key] for key in ("teacher", "student", "fine_tune")}
     specs |= {f"own_teachers[{g}]": s for g, s in own.items()}
     specs |= {f"own_teachers[{g}].retrain": retrain_spec(s) for g, s in own.items()}
     for key, spec in specs.items():
@@ -126,8 +128,10 @@ def check_pipeline(cfg: DictConfig) -> None:
             raise RealIkeaError(
                 f"pipeline.own_teachers[{group}].retrain_below={mark}: use a rate in [0, 1]"
             )
-    if not 0.0 <= float(pipeline.learned) <= 1.0:
-        raise RealIkeaError(f"pipeline.learned={pipeline.learned}: use a rate in [0, 1]")
+    for key in ("learned", "fine_tune.below"):
+        rate = OmegaConf.select(pipeline, key)
+        if isinstance(rate, bool) or not isinstance(rate, int | float) or not 0.0 <= rate <= 1.0:
+            raise RealIkeaError(f"pipeline.{key}={rate}: use a rate in [0, 1]")
     for key in ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain"):
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
@@ -175,26 +179,68 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
     seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
     named one did, with its `retrain` settings) on the next seed; a named one with `from_kind`
     starts from the actor of its kind's teacher."""
-    pipeline, seed = cfg.pipeline, int(cfg.env.seed)
+    seed = int(cfg.env.seed)
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
     if named is not None and retrain:
         named = retrain_spec(named)
-    spec = named or pipeline.teacher
-    own = tuple(str(o) for o in named.get("overrides") or []) if named else ()
     trained_on = seed + 1 if category and (named is None or retrain) else seed
+    return spec_stage(
+        cfg,
+        f"teacher_{group or kind}{RETRAIN if retrain else ''}",
+        named or cfg.pipeline.teacher,
+        kind,
+        category,
+        trained_on,
+        teacher_stage(cfg, kind).name if named and named.get("from_kind", False) else "",
+    )
+
+
+def fine_tune_stage(cfg: DictConfig, kind: str, category: str) -> Stage:
+    """A group's fine-tune (`pipeline.fine_tune`): its kind's teacher's last actor trained on
+    the group alone, on the launch's seed."""
+    return spec_stage(
+        cfg,
+        f"teacher_{group_name(category, kind)}{FINE_TUNED}",
+        cfg.pipeline.fine_tune,
+        kind,
+        category,
+        int(cfg.env.seed),
+        teacher_stage(cfg, kind).name,
+    )
+
+
+def spec_stage(
+    cfg: DictConfig,
+    name: str,
+    spec: DictConfig,
+    kind: str,
+    category: str,
+    seed: int,
+    starts_from: str,
+) -> Stage:
+    """A teacher stage on one kind (and category) and seed, as long as `spec` says, with its
+    switch iteration and overrides, and `pipeline.side_by_side` when teachers train at once."""
+    pipeline = cfg.pipeline
+    own = tuple(str(o) for o in spec.get("overrides") or [])
     scope = (f"asset={category}",) if category else ()
     beside = tuple(pipeline.side_by_side) if int(pipeline.stages_at_once) > 1 else ()
     return Stage(
-        f"teacher_{group or kind}{RETRAIN if retrain else ''}",
-        (*scope, f"asset.kind={kind}", f"env.seed={trained_on}",
+        name,
+        (*scope, f"asset.kind={kind}", f"env.seed={seed}",
          f"agent.max_iterations={spec.iterations}", f"dr.switch_iteration={spec.switch_iteration}",
          *own, *beside),
         int(spec.iterations),
         kind,
         category,
-        teacher_stage(cfg, kind).name if named and named.get("from_kind", False) else "",
+        starts_from,
     )  # fmt: skip
+
+
+def fine_tuned(cfg: DictConfig, group: str, rate: float) -> bool:
+    """Whether a group its kind's teacher left at `rate` (at or above `pipeline.learned`) gets
+    a fine-tune: it has no named teacher and `rate` is below `pipeline.fine_tune.below`."""
+    return group not in own_teachers(cfg) and rate < float(cfg.pipeline.fine_tune.below)
 
 
 def kind_teacher_stages(cfg: DictConfig, groups: list[str] | set[str]) -> list[Stage]:
@@ -230,8 +276,9 @@ def stage_config(
 
 def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
     """Check every stage the launch may train (`check_inputs`): the student without its
-    teachers, the kind teachers, each group's own teacher (named, or by the teacher rule) and
-    a named one's retrain; returns the student's draw's groups in `GROUPS` order."""
+    teachers, the kind teachers, each group's own teacher (named, or by the teacher rule), a
+    named one's retrain and an unnamed one's fine-tune; returns the student's draw's groups in
+    `GROUPS` order."""
     check_pipeline(cfg)
     groups = set(env_groups(check_inputs(stage_config(cfg, launch, student_stage(cfg)))))
     stages = kind_teacher_stages(cfg, groups)
@@ -240,6 +287,8 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
         stages.append(teacher_stage(cfg, *scope))
         if group in own_teachers(cfg) and cfg.pipeline.retrain_own:
             stages.append(teacher_stage(cfg, *scope, retrain=True))
+        if fine_tuned(cfg, group, float(cfg.pipeline.learned)):
+            stages.append(fine_tune_stage(cfg, *scope))
     for stage in stages:
         check_inputs(stage_config(cfg, launch, stage))
     return [g for g in GROUPS if g in groups]
@@ -433,9 +482,15 @@ class Pipeline:
     ) -> list[Stage]:
         """Note the finished teacher in `teachers` for the groups it teaches (`offer`); the
         stages it makes ready: a kind's teacher-rule teachers, for its groups it left below
-        `pipeline.learned`, and its named group teachers that start from it (`from_kind`); or
-        a named group teacher's retrain if it left its group under its retrain mark."""
+        `pipeline.learned`, its fine-tunes, for those it left below `pipeline.fine_tune.below`,
+        and its named group teachers that start from it (`from_kind`); or a named group
+        teacher's retrain if it left its group under its retrain mark. A fine-tune teaches its
+        group only if it ends higher on it than its kind's teacher."""
         success = last_window(checkpoint.parent)
+        if stage.name.endswith(FINE_TUNED):
+            group = group_name(stage.category, stage.kind)
+            self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
+            return []
         if stage.category:
             group = group_name(stage.category, stage.kind)
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
@@ -454,6 +509,8 @@ class Pipeline:
             named, missed = group in own_teachers(self.cfg), self.missed(success, group)
             if (missed and not named) or from_kind(self.cfg, group):
                 later.append(teacher_stage(self.cfg, stage.kind, category))
+            elif fine_tuned(self.cfg, group, success[group] or 0.0):
+                later.append(fine_tune_stage(self.cfg, stage.kind, category))
             # a group with a teacher of its own keeps its kind's only as the better one
             if self.cfg.pipeline.best_teacher or not (named or missed):
                 self.offer(teachers, group, checkpoint, success, own=False)
