@@ -77,13 +77,16 @@ def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_f
 
 def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(report, tmp_path):
     write_cells(tmp_path / "default_group_ppo/s200", ("smooth", "high"))
-    (tmp_path / "hull_high_group_ppo").mkdir()
+    (tmp_path / "hull_high_group_ppo/s210").mkdir(parents=True)
     report.main(["--superseded", "group_ppo"])
     figures = json.loads((tmp_path / "aims_group_ppo.json").read_text())
     assert figures["default_group_ppo/s200"]["aim_coacd"]["met"] is True
     assert "hull_high_group_ppo/s210" in figures and not (tmp_path / "aims.json").exists()
     text = (tmp_path / "aims_group_ppo.md").read_text()
     assert "`group_ppo`, superseded" in text and "default_group_ppo/s200/learning_curve" in text
+    # a seed the superseded recipe never ran (round 18's: none of the design card's) is named
+    assert "### `default` seed 201: not run on `group_ppo`" in text
+    assert "hull_high_group_ppo/s211" not in figures
     with pytest.raises(SystemExit):  # no such recipe's folders: refused, nothing written
         report.main(["--superseded", "bogus"])
     assert not (tmp_path / "aims_bogus.json").exists()

@@ -5,11 +5,13 @@ and interval under `<recipe>/s<seed>.rates.<coacd|own>.<category>_<kind>.<mode>`
 
     python experiments/generalist/aims_report.py
     python experiments/generalist/aims_report.py --superseded group_ppo  # aims_group_ppo.md, .json
+    python experiments/generalist/aims_report.py --superseded student_96  # round 18's
 
 Reads what `aims.py` kept and evaluated: results/<recipe>/s<seed>/ (cells.jsonl, wall.json,
 learning_curve.png) and, for `hull_high`, results/hull_high/s<seed>_own/cells.jsonl; with
 `--superseded NAME`, the aim runs of a recipe the defaults no longer train, kept in
-results/<recipe>_NAME/ (their paths in aims_NAME.json: `<recipe>_NAME/s<seed>...`). Point
+results/<recipe>_NAME/ (their paths in aims_NAME.json: `<recipe>_NAME/s<seed>...`; a seed
+without its folder there was not run on it). Point
 estimates are held to the marks (the issue's aims); the Wilson 95 % interval stands beside each.
 A group the registered hull finger-pull door check could not open (`hull_fp_door.py`: below
 HULL_FP_DOOR_MARK on its own hull) is reported but left out of the design card's own-hull aim.
@@ -138,9 +140,9 @@ def main(argv: list[str] | None = None) -> None:
     )
     superseded = parser.parse_args(argv).superseded
     folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
-    missing = [str(RESULTS / f) for f in folders.values() if not (RESULTS / f).is_dir()]
-    if superseded and missing:
-        parser.error(f"--superseded {superseded}: no folder {', '.join(missing)}")
+    if superseded and not any((RESULTS / f).is_dir() for f in folders.values()):
+        missing = ", ".join(str(RESULTS / f) for f in folders.values())
+        parser.error(f"--superseded {superseded}: no folder {missing}")
     opened = hull_fp_door_opened()
     check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
     title = f": `{superseded}`, superseded" if superseded else ""
@@ -158,6 +160,9 @@ def main(argv: list[str] | None = None) -> None:
     out = {}
     for recipe, seeds in SEEDS.items():
         for seed in seeds:
+            if superseded and not (RESULTS / folders[recipe] / f"s{seed}").is_dir():
+                lines += [f"### `{recipe}` seed {seed}: not run on `{superseded}`", ""]
+                continue
             section, figures = seed_section(recipe, seed, opened, folders[recipe])
             lines += section
             out[f"{folders[recipe]}/s{seed}"] = figures

@@ -42,8 +42,8 @@ GRIDS = {  # folder -> what was trained
     "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
     "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
     **{  # the superseded single-task generalists (seeds 0-2), the superseded multi-task ones of
-        # the aims' seeds (round 1's adopted group_ppo) and the aims' (aims.py, since round 18's
-        # adoption: python train.py's defaults, a pipeline of teachers and one student)
+        # the aims' seeds (round 1's adopted group_ppo, round 18's pipeline) and the aims'
+        # (aims.py: python train.py's defaults, since round 19's adoption its pipeline)
         f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, {length}"
         for recipe, what, seeds, length in (
             (
@@ -89,16 +89,23 @@ GRIDS = {  # folder -> what was trained
                 ITERATIONS,
             ),
             (
+                "default_student_96",
+                "the superseded default of round 18 (`python train.py "
+                "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)",
+                AIM_SEEDS["default"][:2],
+                STAGED,
+            ),
+            (
                 "default",
                 "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-                "`pipeline=distilled_pairs_student_96`)",
+                "`pipeline=distilled_pairs_fine_tune`)",
                 AIM_SEEDS["default"],
                 STAGED,
             ),
             (
                 "hull_high",
                 "the design card's `python train.py collision=hull resistance=high` "
-                "(`pipeline=distilled_pairs_student_96`)",
+                "(`pipeline=distilled_pairs_fine_tune`)",
                 AIM_SEEDS["hull_high"],
                 STAGED,
             ),
