@@ -8,10 +8,11 @@ kind and over every cell, then the named differences per cell and pooled with Ne
 interval. The grids: the appendix-reward generalists (coacd/, hull/ and their variants), and
 the default `gated` recipe's (`train_gated.py`: default/s<seed>/ and hull_high/s<seed>/, the
 latter also on its own hull geometry, hull_high/s<seed>_own/; seeds 0-2 superseded, the aims'
-seeds from aims.py, and those of the superseded round-1 default in default_group_ppo/ and
-hull_high_group_ppo/); default_doors2/s<seed>/ and default/s<seed>_2500/ against the default per
-seed on the door kind, default_follow/s<seed>/ on all cells pooled (the comparisons named before
-those runs); the door specialists (doors/s<seed>/) on the door cells.
+seeds from aims.py, and those of the superseded defaults of round 1 in default_group_ppo/ and
+hull_high_group_ppo/ and of round 18 in default_student_96/); default_doors2/s<seed>/ and
+default/s<seed>_2500/ against the default per seed on the door kind, default_follow/s<seed>/ on
+all cells pooled (the comparisons named before those runs); the door specialists
+(doors/s<seed>/) on the door cells.
 """
 
 from __future__ import annotations
@@ -88,27 +89,13 @@ GRIDS = {  # folder -> what was trained
                 AIM_SEEDS["hull_high"],
                 ITERATIONS,
             ),
-            (
-                "default_student_96",
-                "the superseded default of round 18 (`python train.py "
-                "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)",
-                AIM_SEEDS["default"][:2],
-                STAGED,
-            ),
-            (
-                "default",
-                "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-                "`pipeline=distilled_pairs_fine_tune`)",
-                AIM_SEEDS["default"],
-                STAGED,
-            ),
-            (
-                "hull_high",
-                "the design card's `python train.py collision=hull resistance=high` "
-                "(`pipeline=distilled_pairs_fine_tune`)",
-                AIM_SEEDS["hull_high"],
-                STAGED,
-            ),
+            ("default_student_96", "the superseded default of round 18 (`python train.py "
+             "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)",
+             AIM_SEEDS["default"][:2], STAGED),
+            ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
+             "`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["default"], STAGED),
+            ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
+             "(`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["hull_high"], STAGED),
         )  # fmt: skip
         for seed in seeds
         for own in (("", "_own") if recipe.startswith("hull_high") else ("",))
