@@ -36,67 +36,42 @@ SUPERSEDED_SEEDS = (0, 1, 2)  # the single-task generalists (train_gated.py)
 ITERATIONS = "1,500 iterations"
 STAGED = "teachers then a student of 400 iterations"
 
+# the `gated` recipes' runs, (folder, what was trained, seeds, length): the superseded
+# single-task generalists (seeds 0-2), the superseded defaults' runs of the aims' seeds (round 1's
+# group_ppo, round 18's pipeline) and the aims' (aims.py: python train.py's defaults, since round
+# 19's adoption its pipeline)
+GATED = (
+    ("default", "the superseded default (`python train.py pipeline=none agent=ppo`: CoACD, "
+     "normal, `gated`, the single-task agent)", SUPERSEDED_SEEDS, ITERATIONS),
+    ("hull_high", "the design card's `python train.py collision=hull resistance=high` on the "
+     "superseded single-task agent", SUPERSEDED_SEEDS, ITERATIONS),
+    ("default_doors2", "the superseded default with door groups drawn twice as often "
+     "(`asset.group_weights={door:2}`)", SUPERSEDED_SEEDS, ITERATIONS),
+    ("default_follow", "the superseded default with a draw that follows training success "
+     "(`asset.follow_success={every:50,below:0.5,weight:3}`)", SUPERSEDED_SEEDS, ITERATIONS),
+    ("default_group_ppo", "the superseded default of round 1 (`python train.py pipeline=none`: "
+     "CoACD, normal, `gated`, `agent=multitask`)", AIM_SEEDS["default"], ITERATIONS),
+    ("hull_high_group_ppo", "the design card's `python train.py collision=hull resistance=high` "
+     "on the superseded default of round 1 (`pipeline=none`, `agent=multitask`)",
+     AIM_SEEDS["hull_high"], ITERATIONS),
+    ("default_student_96", "the superseded default of round 18 (`python train.py "
+     "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)", AIM_SEEDS["default"][:2],
+     STAGED),
+    ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
+     "`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["default"], STAGED),
+    ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
+     "(`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["hull_high"], STAGED),
+)  # fmt: skip
+
 GRIDS = {  # folder -> what was trained
     "coacd": "CoACD, w_open2 = 2, 1,500 iterations",
     "hull": "hull, w_open2 = 2, 1,500 iterations",
     "coacd_2500": "CoACD, w_open2 = 2, continued to 2,500 iterations",
     "coacd_open2_0": "CoACD, w_open2 = 0, 1,500 iterations",
     "hull_open2_0": "hull, w_open2 = 0, 1,500 iterations",
-    **{  # the superseded single-task generalists (seeds 0-2), the superseded multi-task ones of
-        # the aims' seeds (round 1's adopted group_ppo, round 18's pipeline) and the aims'
-        # (aims.py: python train.py's defaults, since round 19's adoption its pipeline)
+    **{
         f"{recipe}/s{seed}{own}": f"{what}, seed {seed}, {length}"
-        for recipe, what, seeds, length in (
-            (
-                "default",
-                "the superseded default (`python train.py pipeline=none agent=ppo`: CoACD, normal, "
-                "`gated`, the single-task agent)",
-                SUPERSEDED_SEEDS,
-                ITERATIONS,
-            ),
-            (
-                "hull_high",
-                "the design card's `python train.py collision=hull resistance=high` "
-                "on the superseded single-task agent",
-                SUPERSEDED_SEEDS,
-                ITERATIONS,
-            ),
-            (
-                "default_doors2",
-                "the superseded default with door groups drawn twice as often "
-                "(`asset.group_weights={door:2}`)",
-                SUPERSEDED_SEEDS,
-                ITERATIONS,
-            ),
-            (
-                "default_follow",
-                "the superseded default with a draw that follows training success "
-                "(`asset.follow_success={every:50,below:0.5,weight:3}`)",
-                SUPERSEDED_SEEDS,
-                ITERATIONS,
-            ),
-            (
-                "default_group_ppo",
-                "the superseded default of round 1 (`python train.py pipeline=none`: CoACD, "
-                "normal, `gated`, `agent=multitask`)",
-                AIM_SEEDS["default"],
-                ITERATIONS,
-            ),
-            (
-                "hull_high_group_ppo",
-                "the design card's `python train.py collision=hull resistance=high` on the "
-                "superseded default of round 1 (`pipeline=none`, `agent=multitask`)",
-                AIM_SEEDS["hull_high"],
-                ITERATIONS,
-            ),
-            ("default_student_96", "the superseded default of round 18 (`python train.py "
-             "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)",
-             AIM_SEEDS["default"][:2], STAGED),
-            ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-             "`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["default"], STAGED),
-            ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-             "(`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["hull_high"], STAGED),
-        )  # fmt: skip
+        for recipe, what, seeds, length in GATED
         for seed in seeds
         for own in (("", "_own") if recipe.startswith("hull_high") else ("",))
     },
