@@ -670,6 +670,7 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.teacher.iterations=0", "pipeline.teacher: iterations=0"),
         ("pipeline.student.switch_iteration=300", "pipeline.student: iterations=200"),
         ("pipeline.learned=1.5", "pipeline.learned=1.5: use a rate in"),
+        ("pipeline.learned=high", "pipeline.learned=high: use a rate in"),
         ("pipeline.fine_tune.below=2", "pipeline.fine_tune.below=2: use a rate in"),
         ("pipeline.fine_tune.below=true", "pipeline.fine_tune.below=True: use a rate in"),
         ("+pipeline.fine_tune.overrides=['env.seed=3']", "pipeline.fine_tune.overrides: env.seed"),
