@@ -124,19 +124,24 @@ def check_pipeline(cfg: DictConfig) -> None:
             )
     for group, spec in own.items():
         mark = spec.get("retrain_below", 0.0)
-        if isinstance(mark, bool) or not isinstance(mark, int | float) or not 0.0 <= mark <= 1.0:
+        if not is_rate(mark):
             raise RealIkeaError(
                 f"pipeline.own_teachers[{group}].retrain_below={mark}: use a rate in [0, 1]"
             )
     for key in ("learned", "fine_tune.below"):
         rate = OmegaConf.select(pipeline, key)
-        if isinstance(rate, bool) or not isinstance(rate, int | float) or not 0.0 <= rate <= 1.0:
+        if not is_rate(rate):
             raise RealIkeaError(f"pipeline.{key}={rate}: use a rate in [0, 1]")
     for key in ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain"):
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
         raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
+
+
+def is_rate(value: object) -> bool:
+    """Whether a setting is a number in [0, 1] (true and false are not)."""
+    return not isinstance(value, bool) and isinstance(value, int | float) and 0.0 <= value <= 1.0
 
 
 def final_iterations(cfg: DictConfig) -> int:
