@@ -133,6 +133,31 @@ def test_a_parked_run_resumes_on_another_machine_from_its_last_checkpoint(tmp_pa
     assert q.park([QueuedRun("never_started", (), 400)]) == []  # nothing to park
 
 
+def test_a_staged_run_whose_stages_were_copied_in_but_never_launched_parks_and_resumes(tmp_path):
+    """Stages copied from another run (no launch here, so no Hydra config or wall time) park
+    like any stopped run, and resume from them on the next machine."""
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    run = QueuedRun("default_s201", (), 400, staged=True)
+    run_dir = tmp_path / "work" / run.name
+    (run_dir / "teacher_door").mkdir(parents=True)
+    (run_dir / "teacher_door" / "metrics.csv").write_text("iteration,tag,value\n")
+    (run_dir / "teacher_door" / "model_399.pt").write_bytes(b"door teacher")
+    (run_dir / queue.STAGES).write_text('{"teacher_door": {}}\n')
+    assert q.state(run) == "stopped"
+    (parked,) = q.park([run])
+    assert sorted(str(p.relative_to(parked)) for p in parked.rglob("*")) == [
+        "stages.json", "teacher_door", "teacher_door/metrics.csv", "teacher_door/model_399.pt",
+        "wall.json",
+    ]  # fmt: skip
+    assert json.loads((parked / "wall.json").read_text()) == []
+    shutil.rmtree(tmp_path / "work")
+    assert q.state(run) == "parked"
+    q._unpark(run)
+    assert q.state(run) == "stopped" and f"train.resume={run_dir}" in q.command(run)
+    assert (run_dir / "teacher_door" / "model_399.pt").read_bytes() == b"door teacher"
+
+
 def test_a_launch_that_died_before_its_first_checkpoint_starts_in_an_emptied_folder(
     tmp_path, monkeypatch
 ):

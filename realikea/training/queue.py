@@ -152,10 +152,11 @@ class RunQueue:
         atomic_write_text(self._wall_path(run), json.dumps(seconds) + "\n")
 
     def park(self, runs: list[QueuedRun]) -> list[Path]:
-        """Copy each stopped run's resumable state to `parked`/NAME: its Hydra config, metrics,
-        last checkpoint whole (optimiser included; a staged run: each stage's metrics and last
-        checkpoint, and its stages.json) and launches' wall times, so a session on another
-        machine resumes it (`_launch` puts it back); returns the folders written."""
+        """Copy each stopped run's resumable state to `parked`/NAME: its Hydra config (if it was
+        launched here), metrics, last checkpoint whole (optimiser included; a staged run: each
+        stage's metrics and last checkpoint, and its stages.json) and launches' wall times, so a
+        session on another machine resumes it (`_launch` puts it back); returns the folders
+        written."""
         if self.parked is None:
             raise ValueError("this queue has no folder to park runs in")
         done = []
@@ -165,7 +166,9 @@ class RunQueue:
             source, target = self.work / run.name, self.parked / run.name
             staging = target.with_name(target.name + ".partial")
             shutil.rmtree(staging, ignore_errors=True)
-            shutil.copytree(source / ".hydra", staging / ".hydra")
+            staging.mkdir(parents=True)
+            if (source / ".hydra").is_dir():  # absent: stages copied in, never launched here
+                shutil.copytree(source / ".hydra", staging / ".hydra")
             for folder in _trained_folders(source, run.staged):
                 target_folder = staging / folder.relative_to(source)
                 target_folder.mkdir(parents=True, exist_ok=True)
