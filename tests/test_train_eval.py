@@ -363,6 +363,27 @@ def test_a_slim_checkpoint_acts_like_its_source(run, tmp_path):
     assert small.run_cfg.agent.max_iterations == 2
 
 
+def test_a_sampled_checkpoint_acts_on_its_gaussian_from_its_seed(run):
+    """`policy.sample`: the mean plus the learned std times noise drawn from the seed, the same
+    for the same seed; the mean action otherwise."""
+    run_dir, _ = run
+    obs = np.random.default_rng(1).normal(size=(4, observations.SIZE))
+    mean = CheckpointPolicy(run_dir / "model_1.pt")
+    first, again = (CheckpointPolicy(run_dir / "model_1.pt", sample_seed=7) for _ in range(2))
+    np.testing.assert_array_equal(first.act(obs), again.act(obs))
+    noise = first.act(obs) - mean.act(obs)
+    std = mean.actor.distribution.std_param.detach().numpy()
+    assert np.all(np.abs(noise).mean(axis=0) > 0.05 * std)  # drawn, at the std's scale
+    cfg = load_config([f"policy.path={run_dir / 'model_1.pt'}", "env.seed=7"], "eval")
+    assert CheckpointPolicy.from_config(cfg).noise is None
+    cfg.policy.sample = True
+    fresh = CheckpointPolicy(run_dir / "model_1.pt", sample_seed=7)  # the noise's first draw
+    np.testing.assert_array_equal(CheckpointPolicy.from_config(cfg).act(obs), fresh.act(obs))
+    cfg.policy.sample = "yes"
+    with pytest.raises(RealIkeaError, match="policy.sample=yes: use true or false"):
+        CheckpointPolicy.from_config(cfg)
+
+
 @pytest.mark.parametrize("spread", [True, False])
 def test_episode_starts_spread_after_the_first_rollout(run, tmp_path, spread):
     """init_at_random_ep_len: 15-step episodes, 8-step rollouts. In lockstep no episode ends in
@@ -429,3 +450,14 @@ def test_min_std_is_a_floor_under_the_policys_action_std():
     assert floored["std_range"] == [0.4, 1e6]
     with pytest.raises(RealIkeaError, match=r"agent.min_std=2.0: use a value in \(0"):
         runner_config(load_config(["agent.min_std=2.0"]))
+
+
+def test_max_std_is_a_ceiling_over_the_policys_action_std():
+    capped = runner_config(load_config(["agent.max_std=0.1"]))["actor"]["distribution_cfg"]
+    assert capped["std_range"] == [1e-6, 0.1]
+    both = runner_config(load_config(["agent.min_std=0.05", "agent.max_std=0.1"]))
+    assert both["actor"]["distribution_cfg"]["std_range"] == [0.05, 0.1]
+    with pytest.raises(RealIkeaError, match=r"agent.max_std=0.1: use a value of at least"):
+        runner_config(load_config(["agent.min_std=0.4", "agent.max_std=0.1"]))
+    with pytest.raises(RealIkeaError, match=r"agent.max_std=0.0: use a value of at least"):
+        runner_config(load_config(["agent.max_std=0.0"]))

@@ -19,7 +19,8 @@ from omegaconf import OmegaConf
 from realikea.assets.catalog import GROUPS
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.files import WORKSPACE
+from realikea.eval.sweep import VALIDATION_SEED
+from realikea.files import WORKSPACE, shown_path
 from realikea.policies.checkpoint import CheckpointPolicy
 from realikea.training import pipeline as pipeline_module
 from realikea.training.pipeline import (
@@ -35,6 +36,7 @@ from realikea.training.pipeline import (
     train_pipeline,
 )
 from realikea.training.queue import QueuedRun, RunQueue, keep_run
+from realikea.training.validation import validation_overrides
 
 LAUNCH = ["pipeline=distilled", "logger=none", "env.seed=20"]
 
@@ -348,6 +350,69 @@ def test_a_group_its_kinds_teacher_leaves_short_of_the_mark_gets_a_fine_tune_if_
     else:
         assert ready == []
     assert teachers == {group: tmp_path / taught_by / "model_399.pt"}
+
+
+def test_round_twenties_stages_are_round_nineteens_judged_on_the_validation_draw():
+    """pipeline=distilled_pairs_validated: round 19's stages and marks (so a seed's can be
+    copied from its kept run); only how a teacher's success is read differs."""
+    validated = OmegaConf.to_container(load_config([*LAUNCH, "pipeline=distilled_pairs_validated"]))
+    before = OmegaConf.to_container(load_config([*LAUNCH, "pipeline=distilled_pairs_fine_tune"]))
+    assert validated["pipeline"].pop("judge") == "validation" and before["pipeline"].pop("judge")
+    assert validated["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert validated == before
+
+
+def test_under_the_validation_judge_a_teacher_is_read_on_its_mean_action_once(
+    tmp_path, monkeypatch
+):
+    """The aims' seed 200's door teacher: two-point doors 0.95 in training, 0.78 on the
+    validation draw, so a two-point door fine-tune is made ready (none under round 19's training
+    judge) and teaches if it ends higher there; the rates are kept in stages.json, so a resumed
+    launch, finding the teacher done, does not judge it again."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_validated"]
+    cfg = load_config(launch)
+    door, fine = teacher_stage(cfg, "door"), fine_tune_stage(cfg, "door", "two_point")
+    rates = {(door.name, "two_point_door"): 0.78, (fine.name, "two_point_door"): 0.90}
+    judged = []
+
+    def validation(checkpoint, groups, episodes, given_launch, label):
+        judged.append((label, tuple(groups), episodes, given_launch))
+        return {g: rates[checkpoint.parent.name, g] for g in groups}
+
+    monkeypatch.setattr(pipeline_module, "validation_success", validation)
+    groups, teachers = ["two_point_door", "knob_flap"], {}
+    checkpoint = log_success(tmp_path / door.name, "two_point_door", 0.95)
+    record = {"name": door.name, "success": {"two_point_door": 0.95}}
+    (tmp_path / "stages.json").write_text(json.dumps([record]))
+    assert Pipeline(cfg, launch, tmp_path).taught(door, checkpoint, groups, teachers) == [fine]
+    assert judged == [(door.name, ("two_point_door",), 50, launch)]  # its groups of the draw
+    assert json.loads((tmp_path / "stages.json").read_text())[0]["validation"] == {
+        "two_point_door": 0.78
+    }
+    line = Pipeline(cfg, launch, tmp_path)  # a resumed launch
+    assert line.taught(door, checkpoint, groups, teachers) == [fine] and len(judged) == 1
+    tuned = log_success(tmp_path / fine.name, "two_point_door", 0.80)  # lower in training
+    line.taught(fine, tuned, groups, teachers)
+    assert teachers == {"two_point_door": tuned}  # higher on the validation draw
+    before = load_config([*LAUNCH, "pipeline=distilled_pairs_fine_tune"])
+    assert Pipeline(before, launch, tmp_path).taught(door, checkpoint, groups, {}) == []
+
+
+def test_a_teacher_is_judged_on_the_validation_draw_of_the_launchs_cell():
+    """Train parts, the sweep's validation seed, randomized poses, the group; of the launch,
+    what it trains on (collision, resistance, scene, parts, bases), where its library is and
+    how its envs step, and nothing else."""
+    launch = ["collision=hull", "resistance=high", "env.seed=20", "logger=none",
+              "asset.base=door_left_w40_h80", "paths.library=/lib",
+              "env.num_workers=0"]  # fmt: skip
+    checkpoint = Path("run/teacher_door/model_399.pt")
+    overrides = validation_overrides(checkpoint, "knob_door", 50, launch)
+    assert overrides[2:] == [
+        "asset=knob", "asset.kind=door", "asset.split=train", "dr=randomized", "episodes=50",
+        f"env.seed={VALIDATION_SEED}", "collision=hull", "resistance=high",
+        "asset.base=door_left_w40_h80", "paths.library=/lib", "env.num_workers=0",
+    ]  # fmt: skip
+    assert overrides[:2] == ["policy=checkpoint", f"policy.path={shown_path(checkpoint.resolve())}"]
 
 
 def test_a_group_with_a_teacher_of_its_own_gets_no_fine_tune(tmp_path):
@@ -678,6 +743,9 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.retrain_own=sometimes", "pipeline.retrain_own=sometimes: use true or false"),
         ("pipeline.best_teacher=yes", "pipeline.best_teacher=yes: use true or false"),
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
+        ("pipeline.judge=test", "pipeline.judge=test: use one of training, validation"),
+        ("pipeline.validation_episodes=0", "pipeline.validation_episodes=0: use a whole number"),
+        ("pipeline.validation_episodes=5.5", "pipeline.validation_episodes=5.5: use a whole"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "from_kind: 2}]", "pipeline.own_teachers[knob_door].from_kind=2: use true or false"),
     ],
@@ -781,6 +849,28 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     stages = json.loads((run / "stages.json").read_text())
     assert [s["name"] for s in stages] == [*names[:5], "teacher_two_point_flap", "student"]
     assert stages[5]["resumed_at"] == 0 and final.is_file()
+
+
+def test_a_small_pipeline_judged_on_the_validation_draw_evaluates_each_teacher_once(
+    tmp_path, capsys
+):
+    """`pipeline.judge=validation`: each kind teacher's groups evaluated on its mean action
+    (one episode each here), kept in stages.json, its own teachers trained for exactly the
+    groups it left below the mark; a resumed launch evaluates nothing again."""
+    launch = [*SMALL_PIPELINE, "pipeline.judge=validation", "pipeline.validation_episodes=1",
+              f"paths.library={tmp_path / 'lib'}"]  # fmt: skip
+    run = tmp_path / "run"
+    train_pipeline(load_config(launch), run, launch)
+    stages = {s["name"]: s for s in json.loads((run / "stages.json").read_text())}
+    for kind in ("drawer", "door", "flap"):
+        judged = stages[f"teacher_{kind}"]["validation"]
+        assert list(judged) == [f"two_point_{kind}"] and judged[f"two_point_{kind}"] in (0.0, 1.0)
+        assert (f"teacher_two_point_{kind}" in stages) == (judged[f"two_point_{kind}"] < 1.0)
+    judged_lines = capsys.readouterr().out.count("on the validation draw")
+    assert judged_lines == sum("validation" in s for s in stages.values())
+    resumed = load_config([*launch, f"train.resume={run}"])
+    train_pipeline(resumed, tmp_path / "elsewhere", launch)
+    assert "on the validation draw" not in capsys.readouterr().out
 
 
 def test_paired_teachers_train_side_by_side_each_once_what_it_needs_is_done(tmp_path):

@@ -92,6 +92,9 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # fine-tuned from that teacher, a finger-pull door specialist below 0.9 trained again, each
     # teaching only if better
     "distilled_pairs_fine_tune": ("pipeline=distilled_pairs_fine_tune",),
+    # and every rule reading a teacher's success on the validation draw (its mean action, 50
+    # episodes a group) in place of its last training window
+    "distilled_pairs_validated": ("pipeline=distilled_pairs_validated",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -113,5 +116,6 @@ ROUNDS = {
     17: ("distilled_pairs_knob_second_teacher",),
     18: ("distilled_pairs_student_96",),
     19: ("distilled_pairs_fine_tune",),
+    20: ("distilled_pairs_validated",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -1,6 +1,7 @@
 """A staged run's timeline (training/pipeline.py's RUN/stages.json): when each stage began and
-ended, in minutes after the first began, its wall minutes, seconds per iteration and
-last-window training success per group; the student's teacher of each group where recorded;
+ended, in minutes after the first began, its wall minutes, seconds per iteration,
+last-window training success per group and, judged on the validation draw (`pipeline.judge:
+validation`), each teacher's success there; the student's teacher of each group where recorded;
 then the pipeline's span, the minutes of it with some
 stage training (a parked run's gap between launches is not) and the stages' summed minutes
 (their ratio to the former: how many trained at once on average).
@@ -46,16 +47,17 @@ def main(argv: list[str]) -> int:
     stages = json.loads(path.read_text())
     timed = [s for s in stages if "began" in s]
     start = min((s["began"] for s in timed), default=None)
-    print("| stage | began | ended | min | iterations | s/it | resumed at | success |")
-    print("|---|---:|---:|---:|---:|---:|---:|---|")
+    print("| stage | began | ended | min | iterations | s/it | resumed at | success | validation |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|---|")
     for s in stages:
         began = s["began"] - start if "began" in s else None
         ended = s["ended"] - start if "ended" in s else None
         per_iteration = s["seconds"] / (s["iterations"] - s["resumed_at"])
         success = ", ".join(f"{g} {v:.2f}" for g, v in s["success"].items())
+        judged = ", ".join(f"{g} {v:.2f}" for g, v in s.get("validation", {}).items()) or "–"
         times = f"{minutes(began)} | {minutes(ended)} | {minutes(s['seconds'])}"
         print(f"| {s['name']} | {times} | {s['iterations']} | {per_iteration:.2f} | "
-              f"{s['resumed_at']} | {success} |")  # fmt: skip
+              f"{s['resumed_at']} | {success} | {judged} |")  # fmt: skip
     for s in stages:
         if "teachers" in s:  # the student's (pipelines before best_teacher did not record them)
             taught = ", ".join(f"{g} from {t}" for g, t in s["teachers"].items())

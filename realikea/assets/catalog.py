@@ -36,6 +36,11 @@ def group_name(category: str, kind: str) -> str:
 GROUPS = tuple(group_name(category, kind) for kind in BASE_KINDS for category in CATEGORIES)
 
 
+def kind_and_category(group: str) -> tuple[str, str]:
+    """A category x kind group's kind and category: ("door", "two_point") of "two_point_door"."""
+    return next((k, c) for c in CATEGORIES for k in BASE_KINDS if group_name(c, k) == group)
+
+
 def catalog_dir() -> Path:
     """The catalog folder (parts.csv, bases.csv, split.csv): `$REALIKEA_CATALOG` if set, else the
     package's own `realikea/catalog/`."""

@@ -1,4 +1,5 @@
-"""A trained rsl-rl actor loaded from a checkpoint of a Real-IKEA run, acting deterministically."""
+"""A trained rsl-rl actor loaded from a checkpoint of a Real-IKEA run, acting on its mean action
+(or, `policy.sample`, on samples of its Gaussian, as it acted in training)."""
 
 from __future__ import annotations
 
@@ -106,12 +107,14 @@ def run_config(checkpoint: Path, saved: dict | None = None) -> DictConfig:
 
 class CheckpointPolicy:
     """The actor MLP of a checkpoint; `act` maps observations (N, observations.SIZE) to actions
-    (N, 5), reading the terms of the layout the checkpoint was trained on."""
+    (N, 5), reading the terms of the layout the checkpoint was trained on: its mean action, or
+    with `sample_seed` given, a sample of its Gaussian (its learned std) drawn from that seed."""
 
     name = "checkpoint"
 
-    def __init__(self, path: Path):
+    def __init__(self, path: Path, sample_seed: int | None = None):
         path = Path(path)
+        self.noise = None if sample_seed is None else torch.Generator().manual_seed(sample_seed)
         saved = load_saved(path)
         layout = saved_layout(path, saved)
         try:
@@ -142,10 +145,14 @@ class CheckpointPolicy:
 
     @classmethod
     def from_config(cls, cfg: DictConfig) -> CheckpointPolicy:
-        """`policy.path` names the checkpoint (relative paths from the repository root)."""
+        """`policy.path` names the checkpoint (relative paths from the repository root);
+        `policy.sample` acts on samples drawn from the run's seed (`env.seed`)."""
         if not cfg.policy.path:
             raise RealIkeaError("policy=checkpoint needs policy.path=PATH/model_<it>.pt")
-        return cls(repo_path(cfg.policy.path))
+        sample = cfg.policy.get("sample", False)
+        if not isinstance(sample, bool):
+            raise RealIkeaError(f"policy.sample={sample}: use true or false")
+        return cls(repo_path(cfg.policy.path), int(cfg.env.seed) if sample else None)
 
     def reset(self, env_ids, facts) -> None:
         """Stateless: nothing to forget between episodes (and no privileged scene facts)."""
@@ -154,4 +161,8 @@ class CheckpointPolicy:
     def act(self, obs: np.ndarray) -> np.ndarray:
         batch = torch.as_tensor(np.asarray(obs)[:, self.index], dtype=torch.float32)
         td = TensorDict({"policy": batch}, batch_size=[batch.shape[0]])
-        return self.actor(td).numpy().astype(np.float64)
+        mean = self.actor(td)
+        if self.noise is not None:
+            std = self.actor.distribution.std_param.clamp(min=1e-6)
+            mean = mean + std * torch.randn(mean.shape, generator=self.noise)
+        return mean.numpy().astype(np.float64)

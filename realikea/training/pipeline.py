@@ -3,8 +3,10 @@
 teacher where the pipeline names one or its kind's teacher missed it (and, with
 `pipeline.retrain_own`, a named one again on the next seed where it missed; with
 `pipeline.fine_tune`, its kind's teacher trained on to a group it left short), then every group's
-teacher (with `pipeline.best_teacher`, the one of its teachers with the highest training success
-on it) distilled into one student, the launch's one checkpoint.
+teacher (with `pipeline.best_teacher`, the one of its teachers with the highest success on it)
+distilled into one student, the launch's one checkpoint. A teacher's success on a group, which
+every rule reads, is its training success over its last full window, or with `pipeline.judge:
+validation` that of its mean action on the validation draw (realikea/training/validation.py).
 
     python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
     python train.py pipeline=distilled_pairs               # the teachers two at a time
@@ -45,7 +47,13 @@ from pathlib import Path
 
 from omegaconf import DictConfig, OmegaConf
 
-from realikea.assets.catalog import BASE_KINDS, CATEGORIES, GROUPS, group_name
+from realikea.assets.catalog import (
+    BASE_KINDS,
+    CATEGORIES,
+    GROUPS,
+    group_name,
+    kind_and_category,
+)
 from realikea.config import load_config, override_key, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
@@ -53,6 +61,7 @@ from realikea.files import CONF_DIR, atomic_write_text
 from realikea.training.metrics import last_window
 from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
+from realikea.training.validation import validation_success
 
 # the pipeline configs, realikea/conf/pipeline/<name>.yaml
 PIPELINES = tuple(sorted(path.stem for path in (CONF_DIR / "pipeline").glob("*.yaml")))
@@ -70,6 +79,9 @@ STUDENT = "student"
 STAGE_KEYS = ("asset", "asset.kind", "env.seed", *STAGE_SET)
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
 FINE_TUNED = "_fine_tuned"  # the suffix of a kind teacher trained on one group (`fine_tune`)
+# how a teacher's success on a group is read (`pipeline.judge`): its last training window, or its
+# mean action on the validation draw
+JUDGES = ("training", "validation")
 
 
 @dataclass(frozen=True)
@@ -137,6 +149,11 @@ def check_pipeline(cfg: DictConfig) -> None:
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
         raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
+    if pipeline.judge not in JUDGES:
+        raise RealIkeaError(f"pipeline.judge={pipeline.judge}: use one of {', '.join(JUDGES)}")
+    episodes = pipeline.validation_episodes
+    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
+        raise RealIkeaError(f"pipeline.validation_episodes={episodes}: use a whole number >= 1")
 
 
 def is_rate(value: object) -> bool:
@@ -168,7 +185,7 @@ def retrain_spec(named: DictConfig) -> DictConfig:
 
 
 def retrain_mark(cfg: DictConfig, group: str) -> float:
-    """The training success under which the group's named teacher trains again
+    """The success (`pipeline.judge`) under which the group's named teacher trains again
     (`retrain_below`, else `pipeline.learned`)."""
     return float(own_teachers(cfg)[group].get("retrain_below", cfg.pipeline.learned))
 
@@ -490,8 +507,9 @@ class Pipeline:
         `pipeline.learned`, its fine-tunes, for those it left below `pipeline.fine_tune.below`,
         and its named group teachers that start from it (`from_kind`); or a named group
         teacher's retrain if it left its group under its retrain mark. A fine-tune teaches its
-        group only if it ends higher on it than its kind's teacher."""
-        success = last_window(checkpoint.parent)
+        group only if it ends higher on it than its kind's teacher. Success is as
+        `pipeline.judge` says (`judged`)."""
+        success = self.judged(stage, checkpoint, groups)
         if stage.name.endswith(FINE_TUNED):
             group = group_name(stage.category, stage.kind)
             self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
@@ -521,6 +539,33 @@ class Pipeline:
                 self.offer(teachers, group, checkpoint, success, own=False)
         return later
 
+    def judged(self, stage: Stage, checkpoint: Path, groups: list[str]) -> dict[str, float | None]:
+        """Each group's success of the finished teacher: its training success over its last full
+        window, or with `pipeline.judge: validation` that of its mean action on the validation
+        draw for the groups it teaches (`validation_success`; kept in RUN/stages.json under the
+        stage's record, so a resumed launch does not judge it again)."""
+        training = last_window(checkpoint.parent)
+        if self.cfg.pipeline.judge == "training":
+            return training
+        if stage.category:
+            taught = [group_name(stage.category, stage.kind)]
+        else:
+            taught = [
+                group_name(c, stage.kind) for c in CATEGORIES if group_name(c, stage.kind) in groups
+            ]
+        path = self.root / STAGES
+        stages = json.loads(path.read_text()) if path.is_file() else []
+        record = next((s for s in stages if s["name"] == stage.name), {})
+        judged = record.get("validation", {})
+        missing = [g for g in taught if g not in judged]
+        if missing:
+            episodes = int(self.cfg.pipeline.validation_episodes)
+            judged |= validation_success(checkpoint, missing, episodes, self.launch, stage.name)
+            if record:
+                record["validation"] = judged
+                atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
+        return {g: judged.get(g) for g in training}
+
     def offer(
         self,
         teachers: dict[str, Path],
@@ -532,7 +577,7 @@ class Pipeline:
     ) -> None:
         """Make `checkpoint` the group's teacher: always (a group's own teacher, or its
         retrain, replaces what it had), or with `pipeline.best_teacher` (or `only_if_better`)
-        only if its training success on the group is above the group's teacher so far (equal:
+        only if its success on the group is above the group's teacher so far (equal:
         a group's own teacher goes before its kind's, the first own one before its retrain)."""
         score = (success[group] or 0.0, own)
         choose = self.cfg.pipeline.best_teacher or only_if_better
@@ -545,11 +590,6 @@ class Pipeline:
         """Whether a teacher left the group below `mark`, by default `pipeline.learned` (no
         full window: 0)."""
         return (success[group] or 0.0) < float(self.cfg.pipeline.learned if mark is None else mark)
-
-
-def kind_and_category(group: str) -> tuple[str, str]:
-    """A category x kind group's kind and category."""
-    return next((k, c) for c in CATEGORIES for k in BASE_KINDS if group_name(c, k) == group)
 
 
 def stop(running: dict[Stage, Running]) -> None:

@@ -43,13 +43,21 @@ def runner_config(cfg: DictConfig, label: str = "", line: int = 0) -> dict:
     side by side)."""
     agent = cfg.agent
     distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
-    if agent.get("min_std") is not None:
-        if not 0.0 < float(agent.min_std) <= float(agent.init_std):
-            raise RealIkeaError(
-                f"agent.min_std={agent.min_std}: use a value in (0, agent.init_std="
-                f"{agent.init_std}] or null"
-            )
-        distribution["std_range"] = [float(agent.min_std), 1e6]  # rsl-rl clamps the std to it
+    low, high = agent.get("min_std"), agent.get("max_std")
+    if low is not None and not 0.0 < float(low) <= float(agent.init_std):
+        raise RealIkeaError(
+            f"agent.min_std={low}: use a value in (0, agent.init_std={agent.init_std}] or null"
+        )
+    if high is not None and not float(high) >= (float(low) if low is not None else 1e-6):
+        raise RealIkeaError(
+            f"agent.max_std={high}: use a value of at least agent.min_std "
+            f"({low if low is not None else 1e-6}) or null"
+        )
+    if low is not None or high is not None:  # rsl-rl clamps the std to it (default 1e-6, 1e6)
+        distribution["std_range"] = [
+            float(low) if low is not None else 1e-6,
+            float(high) if high is not None else 1e6,
+        ]
     model = {"class_name": "MLPModel", "activation": str(agent.activation)}
     return {
         "num_steps_per_env": int(agent.num_steps_per_env),
