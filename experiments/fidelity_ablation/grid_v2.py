@@ -63,7 +63,10 @@ RUN_SETTINGS = {
 }  # fmt: skip
 # task settings added after the freeze, at the values that reproduce what the frozen recipe
 # trained: every run composes them from the defaults, which the recipe file predates
-ADDED_AFTER_FREEZE = {"task": {"reward": {"open_target": 1.0, "reopen_bonus": True}}}
+ADDED_AFTER_FREEZE = {
+    "task": {"reward": {"open_target": 1.0, "reopen_bonus": True}},
+    "agent": {"max_std": None},  # no ceiling on the action std, as every run before it trained
+}
 
 
 def recipe_of(cfg) -> dict:
