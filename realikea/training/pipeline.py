@@ -452,16 +452,14 @@ class Pipeline:
         launch's wall seconds, start and end (Unix seconds), last-window success and (the
         student) each group's teacher stage."""
         end = time.time()
-        path = self.root / STAGES
-        stages = json.loads(path.read_text()) if path.is_file() else []
-        stages = [s for s in stages if s["name"] != stage.name]
+        stages = [s for s in self.records() if s["name"] != stage.name]
         success = last_window(self.folder(stage))
         taught_by = {g: checkpoint.parent.name for g, checkpoint in (teachers or {}).items()}
         stages.append({**asdict(stage), "resumed_at": resumed_at, "seconds": round(end - begin, 1),
                        "began": round(begin, 1), "ended": round(end, 1),
                        "success": {g: v for g, v in success.items() if v is not None},
                        **({"teachers": taught_by} if taught_by else {})})  # fmt: skip
-        atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
+        self.write_records(stages)
 
     def train(self, groups: list[str]) -> Path:
         """Every group's teacher, then the student; the student's last checkpoint."""
@@ -544,17 +542,11 @@ class Pipeline:
         window, or with `pipeline.judge: validation` that of its mean action on the validation
         draw for the groups it teaches (`validation_success`; kept in RUN/stages.json under the
         stage's record, so a resumed launch does not judge it again)."""
-        training = last_window(checkpoint.parent)
         if self.cfg.pipeline.judge == "training":
-            return training
-        if stage.category:
-            taught = [group_name(stage.category, stage.kind)]
-        else:
-            taught = [
-                group_name(c, stage.kind) for c in CATEGORIES if group_name(c, stage.kind) in groups
-            ]
-        path = self.root / STAGES
-        stages = json.loads(path.read_text()) if path.is_file() else []
+            return last_window(checkpoint.parent)
+        categories = [stage.category] if stage.category else CATEGORIES
+        taught = [g for g in (group_name(c, stage.kind) for c in categories) if g in groups]
+        stages = self.records()
         record = next((s for s in stages if s["name"] == stage.name), {})
         judged = record.get("validation", {})
         missing = [g for g in taught if g not in judged]
@@ -563,8 +555,17 @@ class Pipeline:
             judged |= validation_success(checkpoint, missing, episodes, self.launch, stage.name)
             if record:
                 record["validation"] = judged
-                atomic_write_text(path, json.dumps(stages, indent=1) + "\n")
-        return {g: judged.get(g) for g in training}
+                self.write_records(stages)
+        return {g: judged.get(g) for g in GROUPS}
+
+    def records(self) -> list[dict]:
+        """The finished stages' records in RUN/stages.json (none yet: empty)."""
+        path = self.root / STAGES
+        return json.loads(path.read_text()) if path.is_file() else []
+
+    def write_records(self, stages: list[dict]) -> None:
+        """Replace RUN/stages.json with `stages`, atomically."""
+        atomic_write_text(self.root / STAGES, json.dumps(stages, indent=1) + "\n")
 
     def offer(
         self,

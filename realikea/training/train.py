@@ -44,20 +44,18 @@ def runner_config(cfg: DictConfig, label: str = "", line: int = 0) -> dict:
     agent = cfg.agent
     distribution = {"class_name": "GaussianDistribution", "init_std": float(agent.init_std)}
     low, high = agent.get("min_std"), agent.get("max_std")
-    if low is not None and not 0.0 < float(low) <= float(agent.init_std):
+    floor = 1e-6 if low is None else float(low)  # unset: rsl-rl's own clamp range
+    ceiling = 1e6 if high is None else float(high)
+    if low is not None and not 0.0 < floor <= float(agent.init_std):
         raise RealIkeaError(
             f"agent.min_std={low}: use a value in (0, agent.init_std={agent.init_std}] or null"
         )
-    if high is not None and not float(high) >= (float(low) if low is not None else 1e-6):
+    if ceiling < floor:
         raise RealIkeaError(
-            f"agent.max_std={high}: use a value of at least agent.min_std "
-            f"({low if low is not None else 1e-6}) or null"
+            f"agent.max_std={high}: use a value of at least agent.min_std ({floor:g}) or null"
         )
-    if low is not None or high is not None:  # rsl-rl clamps the std to it (default 1e-6, 1e6)
-        distribution["std_range"] = [
-            float(low) if low is not None else 1e-6,
-            float(high) if high is not None else 1e6,
-        ]
+    if low is not None or high is not None:
+        distribution["std_range"] = [floor, ceiling]  # rsl-rl clamps the std to it
     model = {"class_name": "MLPModel", "activation": str(agent.activation)}
     return {
         "num_steps_per_env": int(agent.num_steps_per_env),
