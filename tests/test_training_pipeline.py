@@ -398,6 +398,61 @@ def test_under_the_validation_judge_a_teacher_is_read_on_its_mean_action_once(
     assert Pipeline(before, launch, tmp_path).taught(door, checkpoint, groups, {}) == []
 
 
+def test_round_twenty_ones_stages_are_round_twentys_with_the_teacher_rule_on_training():
+    """pipeline=distilled_pairs_validated_marks: round 20's stages, marks and judge; only the
+    teacher rule's reading differs."""
+    marks = OmegaConf.to_container(
+        load_config([*LAUNCH, "pipeline=distilled_pairs_validated_marks"])
+    )
+    before = OmegaConf.to_container(load_config([*LAUNCH, "pipeline=distilled_pairs_validated"]))
+    assert marks["pipeline"].pop("learned_judge") == "training"
+    assert before["pipeline"].pop("learned_judge") is None
+    assert marks["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert marks == before
+
+
+def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_draw(
+    tmp_path, monkeypatch
+):
+    """Round 21 on round 20's seed 21 and the aims' seed 200: the flap teacher's finger-pull
+    flaps at 0.43 in training (0.64 on the validation draw) get their own teacher, not a
+    fine-tune, and are not judged there; the door teacher's two-point doors at 0.95 in training
+    (0.78 there) get a fine-tune; the groups with named teachers (knob and finger-pull doors) are
+    not judged on its actor."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_validated_marks"]
+    cfg = load_config(launch)
+    rates = {"two_point_door": 0.78, "finger_pull_flap": 0.64, "knob_flap": 0.98}
+    judged = []
+
+    def validation(checkpoint, groups, episodes, given_launch, label):
+        judged.append((label, tuple(groups)))
+        return {g: rates[g] for g in groups}
+
+    monkeypatch.setattr(pipeline_module, "validation_success", validation)
+    groups = ["knob_door", "two_point_door", "finger_pull_door", "knob_flap", "finger_pull_flap"]
+    line, teachers = Pipeline(cfg, launch, tmp_path), {}
+    flap, door = teacher_stage(cfg, "flap"), teacher_stage(cfg, "door")
+    flap_checkpoint = log_success(tmp_path / flap.name, "knob_flap", 0.96)
+    rows = [f"{i},/success/{g},{r}" for i in range(25)
+            for g, r in (("knob_flap", 0.96), ("finger_pull_flap", 0.43))]  # fmt: skip
+    (flap_checkpoint.parent / "metrics.csv").write_text("\n".join(["iteration,tag,value", *rows]))
+    assert line.taught(flap, flap_checkpoint, groups, teachers) == [
+        teacher_stage(cfg, "flap", "finger_pull")
+    ]
+    door_checkpoint = log_success(tmp_path / door.name, "two_point_door", 0.95)
+    assert line.taught(door, door_checkpoint, groups, teachers) == [
+        teacher_stage(cfg, "door", "knob"),  # from_kind
+        fine_tune_stage(cfg, "door", "two_point"),
+    ]
+    assert judged == [(flap.name, ("knob_flap",)), (door.name, ("two_point_door",))]
+    assert teachers == {"knob_flap": flap_checkpoint, "two_point_door": door_checkpoint}
+    validated = load_config([*LAUNCH, "pipeline=distilled_pairs_validated"])  # round 20
+    fine_flap = fine_tune_stage(validated, "flap", "finger_pull")
+    assert Pipeline(validated, launch, tmp_path / "r20").taught(
+        flap, flap_checkpoint, groups, {}
+    ) == [fine_flap]
+
+
 def test_a_teacher_is_judged_on_the_validation_draw_of_the_launchs_cell():
     """Train parts, the sweep's validation seed, randomized poses, the group; of the launch,
     what it trains on (collision, resistance, scene, parts, bases), where its library is and
@@ -744,6 +799,7 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.best_teacher=yes", "pipeline.best_teacher=yes: use true or false"),
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
         ("pipeline.judge=test", "pipeline.judge=test: use one of training, validation"),
+        ("pipeline.learned_judge=test", "pipeline.learned_judge=test: use null"),
         ("pipeline.validation_episodes=0", "pipeline.validation_episodes=0: use a whole number"),
         ("pipeline.validation_episodes=5.5", "pipeline.validation_episodes=5.5: use a whole"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "

@@ -95,6 +95,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # and every rule reading a teacher's success on the validation draw (its mean action, 50
     # episodes a group) in place of its last training window
     "distilled_pairs_validated": ("pipeline=distilled_pairs_validated",),
+    # round 19's with the 0.9 marks read there and the teacher rule (0.5) on training success
+    "distilled_pairs_validated_marks": ("pipeline=distilled_pairs_validated_marks",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -117,5 +119,6 @@ ROUNDS = {
     18: ("distilled_pairs_student_96",),
     19: ("distilled_pairs_fine_tune",),
     20: ("distilled_pairs_validated",),
+    21: ("distilled_pairs_validated_marks",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

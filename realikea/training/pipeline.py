@@ -6,7 +6,9 @@ teacher where the pipeline names one or its kind's teacher missed it (and, with
 teacher (with `pipeline.best_teacher`, the one of its teachers with the highest success on it)
 distilled into one student, the launch's one checkpoint. A teacher's success on a group, which
 every rule reads, is its training success over its last full window, or with `pipeline.judge:
-validation` that of its mean action on the validation draw (realikea/training/validation.py).
+validation` that of its mean action on the validation draw (realikea/training/validation.py);
+`pipeline.learned_judge` reads the teacher rule (a kind's teacher below `pipeline.learned`) on
+its own measure.
 
     python train.py pipeline=distilled                     # RUN/teacher_*/, then RUN/model_199.pt
     python train.py pipeline=distilled_pairs               # the teachers two at a time
@@ -151,6 +153,11 @@ def check_pipeline(cfg: DictConfig) -> None:
         raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
     if pipeline.judge not in JUDGES:
         raise RealIkeaError(f"pipeline.judge={pipeline.judge}: use one of {', '.join(JUDGES)}")
+    if pipeline.learned_judge not in (None, *JUDGES):
+        raise RealIkeaError(
+            f"pipeline.learned_judge={pipeline.learned_judge}: use null (as pipeline.judge) or "
+            f"one of {', '.join(JUDGES)}"
+        )
     episodes = pipeline.validation_episodes
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise RealIkeaError(f"pipeline.validation_episodes={episodes}: use a whole number >= 1")
@@ -176,6 +183,12 @@ def from_kind(cfg: DictConfig, group: str) -> bool:
     """Whether the group's named teacher (and its retrain) starts from its kind's teacher."""
     named = own_teachers(cfg).get(group)
     return bool(named is not None and named.get("from_kind", False))
+
+
+def learned_judge(cfg: DictConfig) -> str:
+    """How the teacher rule reads a kind teacher's success (`pipeline.learned_judge`, else
+    `pipeline.judge`)."""
+    return str(cfg.pipeline.learned_judge or cfg.pipeline.judge)
 
 
 def retrain_spec(named: DictConfig) -> DictConfig:
@@ -502,18 +515,18 @@ class Pipeline:
     ) -> list[Stage]:
         """Note the finished teacher in `teachers` for the groups it teaches (`offer`); the
         stages it makes ready: a kind's teacher-rule teachers, for its groups it left below
-        `pipeline.learned`, its fine-tunes, for those it left below `pipeline.fine_tune.below`,
-        and its named group teachers that start from it (`from_kind`); or a named group
-        teacher's retrain if it left its group under its retrain mark. A fine-tune teaches its
-        group only if it ends higher on it than its kind's teacher. Success is as
-        `pipeline.judge` says (`judged`)."""
-        success = self.judged(stage, checkpoint, groups)
-        if stage.name.endswith(FINE_TUNED):
-            group = group_name(stage.category, stage.kind)
-            self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
-            return []
+        `pipeline.learned` (as `pipeline.learned_judge` reads it), its fine-tunes, for those it
+        left below `pipeline.fine_tune.below`, and its named group teachers that start from it
+        (`from_kind`); or a named group teacher's retrain if it left its group under its retrain
+        mark. A fine-tune teaches its group only if it ends higher on it than its kind's
+        teacher. Success is as `pipeline.judge` says (`judged`)."""
+        judge = str(self.cfg.pipeline.judge)
         if stage.category:
             group = group_name(stage.category, stage.kind)
+            success = self.judged(stage, checkpoint, [group] if group in groups else [], judge)
+            if stage.name.endswith(FINE_TUNED):
+                self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
+                return []
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
             is_retrain = stage.name == retrain.name
             better = is_retrain and self.cfg.pipeline.keep_better_retrain
@@ -522,34 +535,42 @@ class Pipeline:
             if not (self.cfg.pipeline.retrain_own and named_first):
                 return []
             return [retrain] if self.missed(success, group, retrain_mark(self.cfg, group)) else []
+        # its groups of the draw a rule reads it on: a named group's only to pick the better
+        best, named = self.cfg.pipeline.best_teacher, own_teachers(self.cfg)
+        ruled = [g for c in CATEGORIES if (g := group_name(c, stage.kind)) in groups
+                 and (best or g not in named)]  # fmt: skip
+        rule = self.judged(stage, checkpoint, ruled, learned_judge(self.cfg))
+        # the groups it may teach or fine-tune: those it did not leave to a teacher of their own
+        rated = [g for g in ruled if best or not self.missed(rule, g)]
+        success = self.judged(stage, checkpoint, rated, judge)
         later = []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
             if group not in groups:
                 continue
-            named, missed = group in own_teachers(self.cfg), self.missed(success, group)
-            if (missed and not named) or from_kind(self.cfg, group):
+            missed = group not in named and self.missed(rule, group)
+            if missed or from_kind(self.cfg, group):
                 later.append(teacher_stage(self.cfg, stage.kind, category))
             elif fine_tuned(self.cfg, group, success[group] or 0.0):
                 later.append(fine_tune_stage(self.cfg, stage.kind, category))
             # a group with a teacher of its own keeps its kind's only as the better one
-            if self.cfg.pipeline.best_teacher or not (named or missed):
+            if group in rated:
                 self.offer(teachers, group, checkpoint, success, own=False)
         return later
 
-    def judged(self, stage: Stage, checkpoint: Path, groups: list[str]) -> dict[str, float | None]:
-        """Each group's success of the finished teacher: its training success over its last full
-        window, or with `pipeline.judge: validation` that of its mean action on the validation
-        draw for the groups it teaches (`validation_success`; kept in RUN/stages.json under the
-        stage's record, so a resumed launch does not judge it again)."""
-        if self.cfg.pipeline.judge == "training":
+    def judged(
+        self, stage: Stage, checkpoint: Path, groups: list[str], judge: str
+    ) -> dict[str, float | None]:
+        """Each group's success of the finished teacher (`judge`): its training success over its
+        last full window, or with `validation` that of its mean action on the validation draw,
+        judged on `groups` (`validation_success`; kept in RUN/stages.json under the stage's
+        record, so a resumed launch does not judge it again)."""
+        if judge == "training":
             return last_window(checkpoint.parent)
-        categories = [stage.category] if stage.category else CATEGORIES
-        taught = [g for g in (group_name(c, stage.kind) for c in categories) if g in groups]
         stages = self.records()
         record = next((s for s in stages if s["name"] == stage.name), {})
         judged = record.get("validation", {})
-        missing = [g for g in taught if g not in judged]
+        missing = [g for g in groups if g not in judged]
         if missing:
             episodes = int(self.cfg.pipeline.validation_episodes)
             judged |= validation_success(checkpoint, missing, episodes, self.launch, stage.name)
