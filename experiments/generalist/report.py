@@ -57,10 +57,13 @@ GATED = (
     ("default_student_96", "the superseded default of round 18 (`python train.py "
      "pipeline=distilled_pairs_student_96`: CoACD, normal, `gated`)", AIM_SEEDS["default"][:2],
      STAGED),
+    ("default_fine_tune", "the superseded default of round 19 (`python train.py "
+     "pipeline=distilled_pairs_fine_tune`: CoACD, normal, `gated`)", AIM_SEEDS["default"][:2],
+     STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_validated_marks`)", AIM_SEEDS["default"], STAGED),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_fine_tune`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_validated_marks`)", AIM_SEEDS["hull_high"], STAGED),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
