@@ -539,10 +539,12 @@ class Pipeline:
         best, named = self.cfg.pipeline.best_teacher, own_teachers(self.cfg)
         ruled = [g for c in CATEGORIES if (g := group_name(c, stage.kind)) in groups
                  and (best or g not in named)]  # fmt: skip
-        rule = self.judged(stage, checkpoint, ruled, learned_judge(self.cfg))
+        rule_judge = learned_judge(self.cfg)
+        rule = self.judged(stage, checkpoint, ruled, rule_judge)
         # the groups it may teach or fine-tune: those it did not leave to a teacher of their own
         rated = [g for g in ruled if best or not self.missed(rule, g)]
-        success = self.judged(stage, checkpoint, rated, judge)
+        # one measure for both: `rule` already holds every group of `rated`
+        success = rule if judge == rule_judge else self.judged(stage, checkpoint, rated, judge)
         later = []
         for category in CATEGORIES:
             group = group_name(category, stage.kind)
