@@ -416,9 +416,9 @@ def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_dra
 ):
     """Round 21 on round 20's seed 21 and the aims' seed 200: the flap teacher's finger-pull
     flaps at 0.43 in training (0.64 on the validation draw) get their own teacher, not a
-    fine-tune, and are not judged there; the door teacher's two-point doors at 0.95 in training
-    (0.78 there) get a fine-tune; the groups with named teachers (knob and finger-pull doors) are
-    not judged on its actor."""
+    fine-tune, and are not judged there, nor is that teacher (no rule reads it); the door
+    teacher's two-point doors at 0.95 in training (0.78 there) get a fine-tune; the groups with
+    named teachers (knob and finger-pull doors) are not judged on its actor."""
     launch = [*LAUNCH, "pipeline=distilled_pairs_validated_marks"]
     cfg = load_config(launch)
     rates = {"two_point_door": 0.78, "finger_pull_flap": 0.64, "knob_flap": 0.98}
@@ -444,8 +444,12 @@ def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_dra
         teacher_stage(cfg, "door", "knob"),  # from_kind
         fine_tune_stage(cfg, "door", "two_point"),
     ]
+    own_flap = teacher_stage(cfg, "flap", "finger_pull")  # teaches whatever it reads: not judged
+    own_checkpoint = log_success(tmp_path / own_flap.name, "finger_pull_flap", 0.6)
+    assert line.taught(own_flap, own_checkpoint, groups, teachers) == []
     assert judged == [(flap.name, ("knob_flap",)), (door.name, ("two_point_door",))]
-    assert teachers == {"knob_flap": flap_checkpoint, "two_point_door": door_checkpoint}
+    assert teachers == {"knob_flap": flap_checkpoint, "two_point_door": door_checkpoint,
+                        "finger_pull_flap": own_checkpoint}  # fmt: skip
     validated = load_config([*LAUNCH, "pipeline=distilled_pairs_validated"])  # round 20
     fine_flap = fine_tune_stage(validated, "flap", "finger_pull")
     assert Pipeline(validated, launch, tmp_path / "r20").taught(

@@ -523,7 +523,11 @@ class Pipeline:
         judge = str(self.cfg.pipeline.judge)
         if stage.category:
             group = group_name(stage.category, stage.kind)
-            success = self.judged(stage, checkpoint, [group] if group in groups else [], judge)
+            # read only where a choice needs it: a fine-tune, a named teacher (its retrain), or
+            # `best_teacher`; a teacher-rule teacher teaches its group whatever it reads
+            read = (stage.name.endswith(FINE_TUNED) or group in own_teachers(self.cfg)
+                    or self.cfg.pipeline.best_teacher) and group in groups  # fmt: skip
+            success = self.judged(stage, checkpoint, [group] if read else [], judge)
             if stage.name.endswith(FINE_TUNED):
                 self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
                 return []
