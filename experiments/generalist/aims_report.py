@@ -15,6 +15,8 @@ without its folder there was not run on it). Point
 estimates are held to the marks (the issue's aims); the Wilson 95 % interval stands beside each.
 A group the registered hull finger-pull door check could not open (`hull_fp_door.py`: below
 HULL_FP_DOOR_MARK on its own hull) is reported but left out of the design card's own-hull aim.
+Wall time is the run's launches (wall.json); where its stages.json trained longer (stages copied
+from earlier runs), that is given too, as a floor, and the time aim is left unjudged.
 """
 
 from __future__ import annotations
