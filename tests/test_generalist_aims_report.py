@@ -90,3 +90,25 @@ def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(repo
     with pytest.raises(SystemExit):  # no such recipe's folders: refused, nothing written
         report.main(["--superseded", "bogus"])
     assert not (tmp_path / "aims_bogus.json").exists()
+
+
+def test_a_run_whose_stages_trained_longer_than_its_launches_has_no_one_wall_time(report, tmp_path):
+    """Stages copied from earlier runs (the union of their stages.json intervals beyond the
+    launches' wall.json) leave the time aim unjudged, with the stages' minutes as a floor."""
+    run = tmp_path / "default/s200"
+    write_cells(run, ("smooth", "high"))
+    (run / "wall.json").write_text('{"launches_seconds": [1500]}')
+    stages = [{"name": "teacher_door", "began": 0.0, "ended": 3000.0},
+              {"name": "teacher_drawer", "began": 1000.0, "ended": 4000.0},  # overlaps
+              {"name": "student", "began": 9000.0, "ended": 10000.0},
+              {"name": "teacher_flap"}]  # fmt: skip
+    (run / "stages.json").write_text(json.dumps(stages))
+    report.main([])
+    figures = json.loads((tmp_path / "aims.json").read_text())["default/s200"]
+    assert figures["stage_hours"] == pytest.approx(5000 / 3600)
+    assert figures["within_time"] is None
+    text = (tmp_path / "aims.md").read_text()
+    assert "Wall time: 25.0 min (`wall.json`); its stages trained over 83.3 min" in text
+    (run / "wall.json").write_text('{"launches_seconds": [6000]}')  # one run trained them all
+    report.main([])
+    assert json.loads((tmp_path / "aims.json").read_text())["default/s200"]["within_time"] is True

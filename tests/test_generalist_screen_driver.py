@@ -229,9 +229,10 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
         (19, "distilled_pairs_fine_tune", 400),
         (20, "distilled_pairs_validated", 400),
         (21, "distilled_pairs_validated_marks", 400),
+        (22, "distilled_pairs_rule_retrain", 400),
     ],
 )
-def test_rounds_nine_to_twenty_one_are_staged_launches_of_their_pipelines(
+def test_rounds_nine_to_twenty_two_are_staged_launches_of_their_pipelines(
     screen, round_, candidate, student
 ):
     assert screen.ROUNDS[round_] == (candidate,)

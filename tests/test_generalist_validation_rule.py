@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import pytest
 from omegaconf import OmegaConf
 
+import realikea.eval.library_grid as library_grid
 from realikea.assets.catalog import GROUPS
 
 
@@ -21,19 +22,22 @@ def rule(load_script, monkeypatch):
 
     def setup(overrides):
         module.asked.append(overrides)
-        return overrides, None
+        return OmegaConf.create({"collision": {"source": "coacd"}, "scene": {"name": "kitchen"},
+                                 "asset": {"split": "train"}, "o": overrides}), None  # fmt: skip
 
-    def evaluate(overrides, policy, progress):
+    def evaluate(cfg, policy, progress):
+        overrides = list(cfg.o)
         short = "short" in overrides[1] and "asset=two_point" in overrides
         rate = (
             0.6
             if short and "asset.kind=door" in overrides and "resistance=high" in overrides
             else 0.9
         )
-        return SimpleNamespace(summary=lambda: {"episodes": 50, "success": rate})
+        summary = {"episodes": 50, "success": rate, "partial": 0.0, "fail": 1 - rate}
+        return SimpleNamespace(summary=lambda: summary, episodes=[])
 
-    monkeypatch.setattr(module, "eval_setup", setup)
-    monkeypatch.setattr(module, "evaluate", evaluate)
+    monkeypatch.setattr(library_grid, "eval_setup", setup)
+    monkeypatch.setattr(library_grid, "evaluate", evaluate)
     monkeypatch.setattr(
         module, "run_config", lambda c: OmegaConf.create({"collision": {"source": "coacd"}})
     )

@@ -416,9 +416,9 @@ def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_dra
 ):
     """Round 21 on round 20's seed 21 and the aims' seed 200: the flap teacher's finger-pull
     flaps at 0.43 in training (0.64 on the validation draw) get their own teacher, not a
-    fine-tune, and are not judged there; the door teacher's two-point doors at 0.95 in training
-    (0.78 there) get a fine-tune; the groups with named teachers (knob and finger-pull doors) are
-    not judged on its actor."""
+    fine-tune, and are not judged there, nor is that teacher (no rule reads it); the door
+    teacher's two-point doors at 0.95 in training (0.78 there) get a fine-tune; the groups with
+    named teachers (knob and finger-pull doors) are not judged on its actor."""
     launch = [*LAUNCH, "pipeline=distilled_pairs_validated_marks"]
     cfg = load_config(launch)
     rates = {"two_point_door": 0.78, "finger_pull_flap": 0.64, "knob_flap": 0.98}
@@ -444,13 +444,67 @@ def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_dra
         teacher_stage(cfg, "door", "knob"),  # from_kind
         fine_tune_stage(cfg, "door", "two_point"),
     ]
+    own_flap = teacher_stage(cfg, "flap", "finger_pull")  # teaches whatever it reads: not judged
+    own_checkpoint = log_success(tmp_path / own_flap.name, "finger_pull_flap", 0.6)
+    assert line.taught(own_flap, own_checkpoint, groups, teachers) == []
     assert judged == [(flap.name, ("knob_flap",)), (door.name, ("two_point_door",))]
-    assert teachers == {"knob_flap": flap_checkpoint, "two_point_door": door_checkpoint}
+    assert teachers == {"knob_flap": flap_checkpoint, "two_point_door": door_checkpoint,
+                        "finger_pull_flap": own_checkpoint}  # fmt: skip
     validated = load_config([*LAUNCH, "pipeline=distilled_pairs_validated"])  # round 20
     fine_flap = fine_tune_stage(validated, "flap", "finger_pull")
     assert Pipeline(validated, launch, tmp_path / "r20").taught(
         flap, flap_checkpoint, groups, {}
     ) == [fine_flap]
+
+
+def test_round_twenty_twos_stages_are_round_twenty_ones_with_teacher_rule_retrains():
+    """pipeline=distilled_pairs_rule_retrain: round 21's stages, marks and judges; only a
+    teacher-rule teacher's retrain mark differs."""
+    retrain = OmegaConf.to_container(
+        load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
+    )
+    before = OmegaConf.to_container(
+        load_config([*LAUNCH, "pipeline=distilled_pairs_validated_marks"])
+    )
+    assert retrain["pipeline"].pop("learned_retrain_below") == 0.9
+    assert before["pipeline"].pop("learned_retrain_below") is None
+    assert retrain["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert retrain == before
+
+
+@pytest.mark.parametrize("first, second, taught_by", [
+    (0.22, 0.80, "teacher_finger_pull_flap_retrain"),  # the aims' s202 at first, then better
+    (0.22, 0.10, "teacher_finger_pull_flap"),  # the retrain lower: the first teaches
+    (0.92, None, "teacher_finger_pull_flap"),  # at the mark: no retrain
+])  # fmt: skip
+def test_a_teacher_rule_teacher_under_the_mark_trains_once_more_on_the_seed_after_its_own(
+    tmp_path, monkeypatch, first, second, taught_by
+):
+    """Round 22 on the aims' seed 202: the flap teacher left finger-pull flaps at 0.0 in
+    training, so they got their own teacher on seed 21 (the launch's 20 + 1); below 0.9 on the
+    validation draw it trains again on seed 22, once, and the better of the two teaches.
+    Round 21 makes no retrain."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_rule_retrain"]
+    cfg = load_config(launch)
+    own = teacher_stage(cfg, "flap", "finger_pull")
+    again = teacher_stage(cfg, "flap", "finger_pull", retrain=True)
+    assert "env.seed=21" in own.overrides and "env.seed=22" in again.overrides
+    assert again.name == "teacher_finger_pull_flap_retrain" and again.iterations == own.iterations
+    rates = {own.name: first, again.name: second}
+    monkeypatch.setattr(pipeline_module, "validation_success",
+                        lambda checkpoint, groups, *_: {g: rates[checkpoint.parent.name]
+                                                        for g in groups})  # fmt: skip
+    groups, teachers = ["finger_pull_flap"], {}
+    line = Pipeline(cfg, launch, tmp_path)
+    checkpoint = log_success(tmp_path / own.name, "finger_pull_flap", 0.06)
+    ready = line.taught(own, checkpoint, groups, teachers)
+    assert ready == ([] if second is None else [again])
+    if second is not None:
+        retrained = log_success(tmp_path / again.name, "finger_pull_flap", 0.5)
+        assert line.taught(again, retrained, groups, teachers) == []  # once
+    assert teachers == {"finger_pull_flap": tmp_path / taught_by / "model_399.pt"}
+    before = load_config([*LAUNCH, "pipeline=distilled_pairs_validated_marks"])
+    assert Pipeline(before, launch, tmp_path / "r21").taught(own, checkpoint, groups, {}) == []
 
 
 def test_a_teacher_is_judged_on_the_validation_draw_of_the_launchs_cell():
@@ -800,6 +854,8 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.alone_all_workers=1", "pipeline.alone_all_workers=1: use true or false"),
         ("pipeline.judge=test", "pipeline.judge=test: use one of training, validation"),
         ("pipeline.learned_judge=test", "pipeline.learned_judge=test: use null"),
+        ("pipeline.learned_retrain_below=1.2", "pipeline.learned_retrain_below=1.2: use null"),
+        ("pipeline.learned_retrain_below=true", "pipeline.learned_retrain_below=True: use null"),
         ("pipeline.validation_episodes=0", "pipeline.validation_episodes=0: use a whole number"),
         ("pipeline.validation_episodes=5.5", "pipeline.validation_episodes=5.5: use a whole"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "

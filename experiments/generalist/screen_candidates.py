@@ -97,6 +97,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_validated": ("pipeline=distilled_pairs_validated",),
     # round 19's with the 0.9 marks read there and the teacher rule (0.5) on training success
     "distilled_pairs_validated_marks": ("pipeline=distilled_pairs_validated_marks",),
+    # and a teacher-rule teacher below 0.9 there trained again on the seed after its own
+    "distilled_pairs_rule_retrain": ("pipeline=distilled_pairs_rule_retrain",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -120,5 +122,6 @@ ROUNDS = {
     19: ("distilled_pairs_fine_tune",),
     20: ("distilled_pairs_validated",),
     21: ("distilled_pairs_validated_marks",),
+    22: ("distilled_pairs_rule_retrain",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

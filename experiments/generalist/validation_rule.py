@@ -6,25 +6,23 @@ every run passes.
     python experiments/generalist/validation_rule.py RESULTS/screen/NAME_s20 RESULTS/screen/NAME_s21
 
 Train parts, `env.seed=2000` (the sweep's validation seed, never the test draw), randomized
-poses, 50 episodes a cell, the collision source the run trained on (kitchen); each cell's
-result is appended to RUN/validation_cells.jsonl as it comes, so a stopped rule evaluates only
-what is missing. Prints a table per run (Wilson 95 % intervals, ✗ under the mark) and the
-verdict. Exit 0, or 2 on bad input (checked for every run before any evaluation).
+poses, 50 episodes a cell, the collision source and scene the run trained on; each cell's
+record (`evaluate_grid`) is appended to RUN/validation_cells.jsonl as it comes, so a stopped
+rule evaluates only what is missing. Prints a table per run (Wilson 95 % intervals, ✗ under the
+mark) and the verdict. Exit 0, or 2 on bad input (checked for every run before any evaluation).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
 from realikea.assets.catalog import BASE_KINDS, CATEGORIES, group_name
-from realikea.eval.setup import eval_setup, evaluate
+from realikea.eval.library_grid import evaluate_grid
 from realikea.eval.stats import wilson
-from realikea.eval.sweep import checkpoints
+from realikea.eval.sweep import VALIDATION_SEED, checkpoints
 from realikea.policies.checkpoint import run_config
-from realikea.training.validation import validation_overrides
 
 MARKS = {"smooth": 0.8, "high": 0.7}  # the aims' marks, read here on the validation draw
 EPISODES = 50
@@ -38,52 +36,30 @@ def student(run: Path) -> Path:
     return checkpoints(run)[-1][1]
 
 
-def read_cells(run: Path) -> dict[tuple[str, str], dict]:
-    path = run / CELLS
-    records = [json.loads(line) for line in path.read_text().splitlines()] if path.is_file() else []
-    return {(r["group"], r["resistance"]): r for r in records}
-
-
-def evaluate_missing(run: Path) -> dict[tuple[str, str], dict]:
-    """Every (group, mode) cell of the run's student not yet in its cells file."""
-    checkpoint, done = student(run), read_cells(run)
+def evaluate_missing(run: Path) -> dict[tuple[str, str, str], dict]:
+    """Every (kind, category, mode) cell of the run's student not yet in its cells file."""
+    checkpoint = student(run)
     collision = f"collision={run_config(checkpoint).collision.source}"
-    for kind in BASE_KINDS:
-        for category in CATEGORIES:
-            group = group_name(category, kind)
-            for mode in MARKS:
-                if (group, mode) in done:
-                    continue
-                launch = [collision, f"resistance={mode}"]
-                overrides = validation_overrides(checkpoint, group, EPISODES, launch)
-                cfg, policy = eval_setup(overrides)
-                summary = evaluate(cfg, policy, progress=False).summary()
-                record = {"group": group, "resistance": mode, "episodes": summary["episodes"],
-                          "success": summary["success"],
-                          "command": "realikea eval " + " ".join(overrides)}  # fmt: skip
-                with (run / CELLS).open("a") as f:
-                    f.write(json.dumps(record) + "\n")
-                done[group, mode] = record
-                print(f"{run.name} {group} {mode}: {summary['success']:.2f}", flush=True)
-    return done
+    return evaluate_grid(checkpoint, run / CELLS, EPISODES, VALIDATION_SEED, modes=tuple(MARKS),
+                         extra=[collision], split="train")  # fmt: skip
 
 
-def verdict(run: Path, cells: dict[tuple[str, str], dict]) -> bool:
+def verdict(run: Path, cells: dict[tuple[str, str, str], dict]) -> bool:
     """Print the run's table; whether every group meets its modes' marks."""
     print(f"\n### {run}\n\n| group | " + " | ".join(f"{m} [95 %]" for m in MARKS) + " |")
     print("|---|" + "---:|" * len(MARKS))
     passed = True
     for kind in BASE_KINDS:
         for category in CATEGORIES:
-            group, row = group_name(category, kind), []
+            row = []
             for mode, mark in MARKS.items():
-                r = cells[group, mode]
+                r = cells[kind, category, mode]
                 wins = round(r["success"] * r["episodes"])
                 low, high = wilson(wins, r["episodes"])
                 short = r["success"] < mark
                 passed &= not short
                 row.append(f"{r['success']:.2f} [{low:.2f}, {high:.2f}]{' ✗' if short else ''}")
-            print(f"| {group} | " + " | ".join(row) + " |")
+            print(f"| {group_name(category, kind)} | " + " | ".join(row) + " |")
     return passed
 
 

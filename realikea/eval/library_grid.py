@@ -1,4 +1,5 @@
-"""One checkpoint over the library's grid, kind x category x resistance mode, on the held-out parts.
+"""One checkpoint over the library's grid, kind x category x resistance mode, on the held-out parts
+(or, with `split="train"` and the validation seed, on the validation draw).
 
 `evaluate_grid` runs `realikea eval` (its own setup: the checkpoint's run groups, the strategy
 classifier) once per cell and appends the cell's JSON line (outcomes, labels, and the contact
@@ -32,15 +33,16 @@ def cell_overrides(
     episodes: int,
     seed: int,
     extra: list[str],
+    split: str = "test",
 ) -> list[str]:
-    """`realikea eval` overrides of one cell: test parts, randomized poses, a held-out seed, in
-    the scene the checkpoint's run was trained in (`run_scene`, when its `.hydra` sits beside
-    it: a placement changed since does not move its arm)."""
+    """`realikea eval` overrides of one cell: the split's parts (test: held out), randomized
+    poses, the draw's seed, in the scene the checkpoint's run was trained in (`run_scene`, when
+    its `.hydra` sits beside it: a placement changed since does not move its arm)."""
     hydra = Path(checkpoint).parent / ".hydra"
     scene = run_scene(hydra) if (hydra / "config.yaml").is_file() else []
     return [
         "policy=checkpoint", f"policy.path={shown_path(Path(checkpoint).resolve())}",
-        f"asset={category}", f"asset.kind={kind}", f"resistance={mode}", "asset.split=test",
+        f"asset={category}", f"asset.kind={kind}", f"resistance={mode}", f"asset.split={split}",
         "dr=randomized", f"episodes={episodes}", f"env.seed={seed}", *scene, *extra,
     ]  # fmt: skip
 
@@ -62,6 +64,7 @@ def evaluate_grid(
     categories=CATEGORIES,
     modes=MODES,
     extra: list[str] | None = None,
+    split: str = "test",
 ) -> dict[tuple[str, str, str], dict]:
     """Evaluate every cell missing from `results`, appending one JSON line per cell."""
     results = Path(results)
@@ -69,7 +72,9 @@ def evaluate_grid(
     done = read_cells(results)
     todo = [(k, c, m) for k in kinds for c in categories for m in modes if (k, c, m) not in done]
     for n, (kind, category, mode) in enumerate(todo, 1):
-        overrides = cell_overrides(checkpoint, kind, category, mode, episodes, seed, extra or [])
+        overrides = cell_overrides(
+            checkpoint, kind, category, mode, episodes, seed, extra or [], split
+        )
         start = time.perf_counter()
         cfg, policy = eval_setup(overrides)
         result = evaluate(cfg, policy, progress=False)

@@ -1,7 +1,8 @@
 """One policy for a draw over several category x kind groups, trained in stages
 (`pipeline=distilled`, realikea/conf/pipeline/distilled.yaml): a teacher per kind, a group's own
 teacher where the pipeline names one or its kind's teacher missed it (and, with
-`pipeline.retrain_own`, a named one again on the next seed where it missed; with
+`pipeline.retrain_own`, a named one again on the next seed where it missed, with
+`pipeline.learned_retrain_below` a teacher-rule one on the seed after its own; with
 `pipeline.fine_tune`, its kind's teacher trained on to a group it left short), then every group's
 teacher (with `pipeline.best_teacher`, the one of its teachers with the highest success on it)
 distilled into one student, the launch's one checkpoint. A teacher's success on a group, which
@@ -146,6 +147,11 @@ def check_pipeline(cfg: DictConfig) -> None:
         rate = OmegaConf.select(pipeline, key)
         if not is_rate(rate):
             raise RealIkeaError(f"pipeline.{key}={rate}: use a rate in [0, 1]")
+    mark = pipeline.learned_retrain_below
+    if mark is not None and not is_rate(mark):
+        raise RealIkeaError(
+            f"pipeline.learned_retrain_below={mark}: use null (never) or a rate in [0, 1]"
+        )
     for key in ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain"):
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
@@ -212,14 +218,17 @@ def stage_override_refused(override: str) -> bool:
 def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool = False) -> Stage:
     """The teacher of one kind's groups, or (`category`) a group's own teacher: on the launch's
     seed where the pipeline names it, else (its kind's teacher missed it, or `retrain`: the
-    named one did, with its `retrain` settings) on the next seed; a named one with `from_kind`
-    starts from the actor of its kind's teacher."""
+    named one did, with its `retrain` settings) on the next seed, and a teacher-rule one's
+    retrain on the seed after that; a named one with `from_kind` starts from the actor of its
+    kind's teacher."""
     seed = int(cfg.env.seed)
     group = group_name(category, kind) if category else ""
     named = own_teachers(cfg).get(group)
     if named is not None and retrain:
         named = retrain_spec(named)
     trained_on = seed + 1 if category and (named is None or retrain) else seed
+    if category and retrain and group not in own_teachers(cfg):
+        trained_on = seed + 2  # its first teacher, by the teacher rule, trained on seed + 1
     return spec_stage(
         cfg,
         f"teacher_{group or kind}{RETRAIN if retrain else ''}",
@@ -518,23 +527,30 @@ class Pipeline:
         `pipeline.learned` (as `pipeline.learned_judge` reads it), its fine-tunes, for those it
         left below `pipeline.fine_tune.below`, and its named group teachers that start from it
         (`from_kind`); or a named group teacher's retrain if it left its group under its retrain
-        mark. A fine-tune teaches its group only if it ends higher on it than its kind's
-        teacher. Success is as `pipeline.judge` says (`judged`)."""
-        judge = str(self.cfg.pipeline.judge)
+        mark, or (`pipeline.learned_retrain_below`) a teacher-rule teacher's under that. A
+        fine-tune teaches its group only if it ends higher on it than its kind's teacher. Success
+        is as `pipeline.judge` says (`judged`)."""
+        pipeline, judge = self.cfg.pipeline, str(self.cfg.pipeline.judge)
         if stage.category:
             group = group_name(stage.category, stage.kind)
-            success = self.judged(stage, checkpoint, [group] if group in groups else [], judge)
+            named = group in own_teachers(self.cfg)
+            rule_mark = None if named else pipeline.learned_retrain_below
+            # read only where a choice needs it: a fine-tune, a teacher that may retrain or be
+            # retrained, or `best_teacher`; else a group's teacher teaches whatever it reads
+            read = (stage.name.endswith(FINE_TUNED) or named or rule_mark is not None
+                    or pipeline.best_teacher) and group in groups  # fmt: skip
+            success = self.judged(stage, checkpoint, [group] if read else [], judge)
             if stage.name.endswith(FINE_TUNED):
                 self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
                 return []
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
             is_retrain = stage.name == retrain.name
-            better = is_retrain and self.cfg.pipeline.keep_better_retrain
+            better = is_retrain and pipeline.keep_better_retrain
             self.offer(teachers, group, checkpoint, success, own=True, only_if_better=better)
-            named_first = group in own_teachers(self.cfg) and not is_retrain
-            if not (self.cfg.pipeline.retrain_own and named_first):
+            mark = retrain_mark(self.cfg, group) if named and pipeline.retrain_own else rule_mark
+            if is_retrain or mark is None:
                 return []
-            return [retrain] if self.missed(success, group, retrain_mark(self.cfg, group)) else []
+            return [retrain] if self.missed(success, group, mark) else []
         # its groups of the draw a rule reads it on: a named group's only to pick the better
         best, named = self.cfg.pipeline.best_teacher, own_teachers(self.cfg)
         ruled = [g for c in CATEGORIES if (g := group_name(c, stage.kind)) in groups
