@@ -227,8 +227,8 @@ def teacher_stage(cfg: DictConfig, kind: str, category: str = "", retrain: bool 
     if named is not None and retrain:
         named = retrain_spec(named)
     trained_on = seed + 1 if category and (named is None or retrain) else seed
-    if category and retrain and group not in own_teachers(cfg):
-        trained_on = seed + 2  # its first teacher, by the teacher rule, trained on seed + 1
+    if category and retrain and named is None:  # its first, by the teacher rule, on seed + 1
+        trained_on = seed + 2
     return spec_stage(
         cfg,
         f"teacher_{group or kind}{RETRAIN if retrain else ''}",
@@ -533,11 +533,11 @@ class Pipeline:
         pipeline, judge = self.cfg.pipeline, str(self.cfg.pipeline.judge)
         if stage.category:
             group = group_name(stage.category, stage.kind)
-            named = group in own_teachers(self.cfg)
-            rule_mark = None if named else pipeline.learned_retrain_below
+            is_named = group in own_teachers(self.cfg)
+            rule_mark = None if is_named else pipeline.learned_retrain_below
             # read only where a choice needs it: a fine-tune, a teacher that may retrain or be
             # retrained, or `best_teacher`; else a group's teacher teaches whatever it reads
-            read = (stage.name.endswith(FINE_TUNED) or named or rule_mark is not None
+            read = (stage.name.endswith(FINE_TUNED) or is_named or rule_mark is not None
                     or pipeline.best_teacher) and group in groups  # fmt: skip
             success = self.judged(stage, checkpoint, [group] if read else [], judge)
             if stage.name.endswith(FINE_TUNED):
@@ -547,7 +547,7 @@ class Pipeline:
             is_retrain = stage.name == retrain.name
             better = is_retrain and pipeline.keep_better_retrain
             self.offer(teachers, group, checkpoint, success, own=True, only_if_better=better)
-            mark = retrain_mark(self.cfg, group) if named and pipeline.retrain_own else rule_mark
+            mark = retrain_mark(self.cfg, group) if is_named and pipeline.retrain_own else rule_mark
             if is_retrain or mark is None:
                 return []
             return [retrain] if self.missed(success, group, mark) else []
