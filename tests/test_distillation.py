@@ -19,8 +19,13 @@ from realikea.errors import RealIkeaError
 from realikea.policies.checkpoint import CheckpointPolicy, checkpoint_infos
 from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
-from realikea.training.distillation import RoutedTeacher, check_teachers, teacher_paths
-from realikea.training.train import check_inputs, init_actor, train
+from realikea.training.distillation import (
+    RoutedDistillation,
+    RoutedTeacher,
+    check_teachers,
+    teacher_paths,
+)
+from realikea.training.train import check_inputs, init_actor, train, train_config
 
 SMALL = [*SMALL_RUN, "agent.actor_hidden_dims=[8]", "agent.critic_hidden_dims=[8]"]
 DOORS = ["knob_door", "two_point_door", "finger_pull_door"]
@@ -97,6 +102,35 @@ def test_a_bad_teacher_is_refused_naming_it_before_any_work(tmp_path, teachers, 
 def test_teachers_not_given_as_a_mapping_are_refused():
     with pytest.raises(RealIkeaError, match=r"teachers='model.pt': use \{group: checkpoint"):
         check_inputs(load_config([*SMALL, "distill.teachers=model.pt"]))
+
+
+def test_an_unknown_way_for_the_student_to_act_is_refused(tmp_path):
+    good = save_teacher(tmp_path / "good.pt")
+    cfg = config(tmp_path, {"two_point_drawer": good}, "distill.student_acts=greedy")
+    with pytest.raises(RealIkeaError, match="student_acts=greedy: use one of sample, mean"):
+        check_inputs(cfg)
+
+
+@pytest.mark.parametrize("acts", ["sample", "mean"])
+def test_the_student_acts_on_samples_or_its_mean_and_is_labelled_by_its_teacher(tmp_path, acts):
+    """One rollout step of the routed distillation: the envs step on the student's action (a
+    sample of its std-1 Gaussian round its mean 0.25, or that mean), its teacher's is the label."""
+    teacher = save_teacher(tmp_path / "t.pt", bias=-0.5)
+    cfg = config(tmp_path, {"two_point_drawer": teacher}, f"distill.student_acts={acts}")
+    train_cfg = train_config(cfg)
+    train_cfg["student"]["distribution_cfg"]["init_std"] = 1.0
+    train_cfg["multi_gpu"] = None  # as rsl-rl's runner sets it on one device
+    obs = TensorDict({"policy": torch.randn(4, observations.SIZE)}, batch_size=[4])
+    env = SimpleNamespace(num_envs=4, num_actions=ACTION_SIZE, groups=["two_point_drawer"] * 4)
+    alg = RoutedDistillation.construct_algorithm(obs, env, train_cfg, "cpu")
+    with torch.no_grad():
+        alg.student.mlp[-1].weight.zero_()
+        alg.student.mlp[-1].bias.fill_(0.25)
+    actions = alg.act(obs)
+    assert torch.equal(alg.transition.actions, actions)
+    assert torch.equal(alg.transition.privileged_actions, torch.full((4, ACTION_SIZE), -0.5))
+    on_mean = torch.equal(actions, torch.full((4, ACTION_SIZE), 0.25))
+    assert on_mean == (acts == "mean")
 
 
 def test_a_success_following_draw_is_refused(tmp_path):

@@ -472,6 +472,27 @@ def test_round_twenty_twos_stages_are_round_twenty_ones_with_teacher_rule_retrai
     assert retrain == before
 
 
+def test_round_twenty_threes_stages_are_round_twenty_twos_but_the_student_acts_on_its_mean():
+    """pipeline=distilled_pairs_student_mean: round 22's pipeline (so its teachers of a seed can
+    be copied); only the student's rollouts act on its mean action."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_mean"]
+    mean = load_config(launch)
+    before = load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
+    student = stage_config(mean, launch, student_stage(mean))
+    assert (student.distill.student_acts, before.distill.student_acts) == ("mean", "sample")
+    assert stage_config(before, launch, student_stage(before)).distill.student_acts == "sample"
+    student.distill.student_acts = "sample"
+    assert without_pipeline(student) == without_pipeline(
+        stage_config(before, launch, student_stage(before))
+    )
+    changed = OmegaConf.to_container(mean.pipeline)
+    base = OmegaConf.to_container(before.pipeline)
+    assert changed.pop("student")["overrides"][-1] == "distill.student_acts=mean"
+    base.pop("student")
+    assert changed.pop("name") != base.pop("name")
+    assert changed == base
+
+
 @pytest.mark.parametrize("first, second, taught_by", [
     (0.22, 0.80, "teacher_finger_pull_flap_retrain"),  # the aims' s202 at first, then better
     (0.22, 0.10, "teacher_finger_pull_flap"),  # the retrain lower: the first teaches

@@ -99,6 +99,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_validated_marks": ("pipeline=distilled_pairs_validated_marks",),
     # and a teacher-rule teacher below 0.9 there trained again on the seed after its own
     "distilled_pairs_rule_retrain": ("pipeline=distilled_pairs_rule_retrain",),
+    # and the student acting on its mean action in its DAgger rollouts
+    "distilled_pairs_student_mean": ("pipeline=distilled_pairs_student_mean",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -123,5 +125,6 @@ ROUNDS = {
     20: ("distilled_pairs_validated",),
     21: ("distilled_pairs_validated_marks",),
     22: ("distilled_pairs_rule_retrain",),
+    23: ("distilled_pairs_student_mean",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -33,6 +33,9 @@ from realikea.tasks import observations
 from realikea.tasks.open_task import ACTION_SIZE
 
 ROUTED_DISTILLATION = "realikea.training.distillation:RoutedDistillation"
+# how the student acts in its rollouts (`distill.student_acts`): on samples of its Gaussian (its
+# std `distill.student_std`), or on its mean action, as every evaluation runs it
+STUDENT_ACTS = ("sample", "mean")
 
 
 def distilling(cfg: DictConfig) -> bool:
@@ -60,6 +63,9 @@ def check_teachers(cfg: DictConfig, draw_groups: list[str]) -> None:
             "distill.teachers: a distilled run keeps each env in its group; drop "
             "asset.follow_success"
         )
+    acts = cfg.distill.get("student_acts", "sample")
+    if acts not in STUDENT_ACTS:
+        raise RealIkeaError(f"distill.student_acts={acts}: use one of {', '.join(STUDENT_ACTS)}")
     paths = teacher_paths(cfg)
     unknown = sorted(set(paths) - set(GROUPS))
     if unknown:
@@ -137,7 +143,10 @@ def routed_teacher(teachers: dict[str, str], env_groups: list[str]) -> RoutedTea
 
 class RoutedDistillation(Distillation):
     """rsl-rl's `Distillation` with a `RoutedTeacher` (built from the train config's
-    `teacher.checkpoints` and the env's `groups`) and the student saved as an actor."""
+    `teacher.checkpoints` and the env's `groups`), the student acting on samples or (the train
+    config's `student_acts: mean`) on its mean action, and saved as an actor."""
+
+    act_on_mean = False
 
     @staticmethod
     def construct_algorithm(obs: TensorDict, env, cfg: dict, device: str) -> RoutedDistillation:
@@ -152,7 +161,18 @@ class RoutedDistillation(Distillation):
             student, teacher, storage, device=device, **algorithm, multi_gpu_cfg=cfg["multi_gpu"]
         )
         alg.teacher_loaded = True  # the teachers come loaded from their checkpoints
+        alg.act_on_mean = cfg.get("student_acts") == "mean"
         return alg
+
+    def act(self, obs: TensorDict) -> torch.Tensor:
+        """The student's action (a sample, or its mean with `act_on_mean`), each env's teacher's
+        as its label; the transition stored."""
+        if not self.act_on_mean:
+            return super().act(obs)
+        self.transition.actions = self.student(obs).detach()
+        self.transition.privileged_actions = self.teacher(obs).detach()
+        self.transition.observations = obs
+        return self.transition.actions
 
     def save(self) -> dict:
         return {
@@ -170,8 +190,9 @@ class RoutedDistillation(Distillation):
 
 def distillation_config(cfg: DictConfig, ppo: dict, teachers: dict[str, Path]) -> dict:
     """The rsl-rl train_cfg of a distilled run: PPO's (`ppo`, from `runner_config`) rollout,
-    saving and logging, its actor network as the student (with `distill.student_std` as the
-    action std the student explores with), and `distill`'s optimisation settings."""
+    saving and logging, its actor network as the student (with `distill.student_std` as its
+    action std, and `distill.student_acts`: whether it acts on samples or its mean), and
+    `distill`'s optimisation settings."""
     distill = cfg.distill
     return {
         **{k: ppo[k] for k in ("num_steps_per_env", "save_interval", "logger", "check_for_nan")},
@@ -192,4 +213,5 @@ def distillation_config(cfg: DictConfig, ppo: dict, teachers: dict[str, Path]) -
             },
         },
         "teacher": {"checkpoints": {group: str(path) for group, path in teachers.items()}},
+        "student_acts": str(distill.get("student_acts", "sample")),
     }
