@@ -131,6 +131,7 @@ def test_the_student_acts_on_samples_or_its_mean_and_is_labelled_by_its_teacher(
     assert torch.equal(alg.transition.privileged_actions, torch.full((4, ACTION_SIZE), -0.5))
     on_mean = torch.equal(actions, torch.full((4, ACTION_SIZE), 0.25))
     assert on_mean == (acts == "mean")
+    assert torch.equal(alg.get_policy().output_std, torch.ones(4, ACTION_SIZE))  # as logged
 
 
 def test_a_success_following_draw_is_refused(tmp_path):
@@ -179,9 +180,11 @@ def test_init_actor_with_resume_is_refused(tmp_path):
         check_inputs(cfg)
 
 
-def test_a_distilled_run_evaluates_and_starts_a_ppo_run(tmp_path, capsys):
-    """Four iterations distilling a constant teacher, then its checkpoint through `realikea
-    eval` and as the start of a PPO run (both trainings in this process)."""
+@pytest.mark.parametrize("acts", ["sample", "mean"])
+def test_a_distilled_run_evaluates_and_starts_a_ppo_run(tmp_path, capsys, acts):
+    """Four iterations distilling a constant teacher, the student acting on samples or its mean,
+    then its checkpoint through `realikea eval` and as the start of a PPO run (both trainings in
+    this process)."""
     teacher = save_teacher(tmp_path / "teacher.pt", bias=0.5)
     library = tmp_path / "library"
     common = [*SMALL, "logger=none", "agent.num_steps_per_env=8", f"paths.library={library}"]
@@ -193,6 +196,7 @@ def test_a_distilled_run_evaluates_and_starts_a_ppo_run(tmp_path, capsys):
             "agent.max_iterations=4",
             f"distill.teachers={{two_point_drawer: {teacher}}}",
             "distill.learning_rate=0.01",  # 5 gradient steps an iteration
+            f"distill.student_acts={acts}",
         ]
     )
     assert train(cfg, distilled) == distilled / "model_3.pt"

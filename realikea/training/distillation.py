@@ -169,7 +169,8 @@ class RoutedDistillation(Distillation):
         as its label; the transition stored."""
         if not self.act_on_mean:
             return super().act(obs)
-        self.transition.actions = self.student(obs).detach()
+        self.student(obs, stochastic_output=True)  # its distribution, whose std the runner logs
+        self.transition.actions = self.student.output_mean.detach()
         self.transition.privileged_actions = self.teacher(obs).detach()
         self.transition.observations = obs
         return self.transition.actions
