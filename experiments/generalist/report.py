@@ -60,10 +60,13 @@ GATED = (
     ("default_fine_tune", "the superseded default of round 19 (`python train.py "
      "pipeline=distilled_pairs_fine_tune`: CoACD, normal, `gated`)", AIM_SEEDS["default"][:2],
      STAGED),
+    ("default_validated_marks", "the superseded default of round 21 (`python train.py "
+     "pipeline=distilled_pairs_validated_marks`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
+     STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_validated_marks`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_rule_retrain`)", AIM_SEEDS["default"], STAGED),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_validated_marks`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_rule_retrain`)", AIM_SEEDS["hull_high"], STAGED),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
