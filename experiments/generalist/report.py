@@ -64,9 +64,9 @@ GATED = (
      "pipeline=distilled_pairs_validated_marks`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
      STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_rule_retrain`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_student_mean`)", AIM_SEEDS["default"], STAGED),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_rule_retrain`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_student_mean`)", AIM_SEEDS["hull_high"], STAGED),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
