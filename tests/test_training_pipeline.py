@@ -479,12 +479,11 @@ def test_round_twenty_threes_stages_are_round_twenty_twos_but_the_student_acts_o
     mean = load_config(launch)
     before = load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
     student = stage_config(mean, launch, student_stage(mean))
+    previous = stage_config(before, launch, student_stage(before))
     assert (student.distill.student_acts, before.distill.student_acts) == ("mean", "sample")
-    assert stage_config(before, launch, student_stage(before)).distill.student_acts == "sample"
+    assert previous.distill.student_acts == "sample"
     student.distill.student_acts = "sample"
-    assert without_pipeline(student) == without_pipeline(
-        stage_config(before, launch, student_stage(before))
-    )
+    assert without_pipeline(student) == without_pipeline(previous)
     changed = OmegaConf.to_container(mean.pipeline)
     base = OmegaConf.to_container(before.pipeline)
     assert changed.pop("student")["overrides"][-1] == "distill.student_acts=mean"

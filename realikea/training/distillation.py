@@ -57,7 +57,8 @@ def teacher_paths(cfg: DictConfig) -> dict[str, Path]:
 def check_teachers(cfg: DictConfig, draw_groups: list[str]) -> None:
     """Refuse `distill.teachers` (naming the input) when a group is unknown, a group of the
     run's draw has no teacher, a checkpoint is missing or unreadable, or a teacher observes or
-    acts on another layout than the student."""
+    acts on another layout than the student; and a `distill.student_acts` not in
+    `STUDENT_ACTS`."""
     if cfg.asset.get("follow_success") is not None:
         raise RealIkeaError(
             "distill.teachers: a distilled run keeps each env in its group; drop "
@@ -165,15 +166,13 @@ class RoutedDistillation(Distillation):
         return alg
 
     def act(self, obs: TensorDict) -> torch.Tensor:
-        """The student's action (a sample, or its mean with `act_on_mean`), each env's teacher's
-        as its label; the transition stored."""
-        if not self.act_on_mean:
-            return super().act(obs)
-        self.student(obs, stochastic_output=True)  # its distribution, whose std the runner logs
-        self.transition.actions = self.student.output_mean.detach()
-        self.transition.privileged_actions = self.teacher(obs).detach()
-        self.transition.observations = obs
-        return self.transition.actions
+        """rsl-rl's step (the student's sample acted on, each env's teacher's action its label,
+        the transition stored), with `act_on_mean` the mean of the distribution that sample
+        came from acted on and stored instead (the runner logs that distribution's std)."""
+        actions = super().act(obs)
+        if self.act_on_mean:
+            actions = self.transition.actions = self.student.output_mean.detach()
+        return actions
 
     def save(self) -> dict:
         return {
