@@ -111,6 +111,14 @@ def test_an_unknown_way_for_the_student_to_act_is_refused(tmp_path):
         check_inputs(cfg)
 
 
+@pytest.mark.parametrize("std", ["0", "-0.1", "wide", "true"])
+def test_a_student_std_that_is_not_a_positive_number_is_refused(tmp_path, std):
+    good = save_teacher(tmp_path / "good.pt")
+    cfg = config(tmp_path, {"two_point_drawer": good}, f"distill.student_std={std}")
+    with pytest.raises(RealIkeaError, match=r"student_std=.*: use an action std above 0"):
+        check_inputs(cfg)
+
+
 @pytest.mark.parametrize("acts", ["sample", "mean"])
 def test_the_student_acts_on_samples_or_its_mean_and_is_labelled_by_its_teacher(tmp_path, acts):
     """One rollout step of the routed distillation: the envs step on the student's action (a

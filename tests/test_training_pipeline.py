@@ -492,6 +492,26 @@ def test_round_twenty_threes_stages_are_round_twenty_twos_but_the_student_acts_o
     assert changed == base
 
 
+def test_round_twenty_fours_stages_are_round_twenty_twos_but_the_student_samples_wider():
+    """pipeline=distilled_pairs_student_noise: round 22's pipeline (so its teachers of a seed can
+    be copied); only the student's action std in its rollouts differs, and it acts on samples."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_noise"]
+    noise = load_config(launch)
+    before = load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
+    student = stage_config(noise, launch, student_stage(noise))
+    previous = stage_config(before, launch, student_stage(before))
+    assert (student.distill.student_std, previous.distill.student_std) == (0.3, 0.1)
+    assert student.distill.student_acts == previous.distill.student_acts == "sample"
+    student.distill.student_std = 0.1
+    assert without_pipeline(student) == without_pipeline(previous)
+    changed = OmegaConf.to_container(noise.pipeline)
+    base = OmegaConf.to_container(before.pipeline)
+    assert changed.pop("student")["overrides"][-1] == "distill.student_std=0.3"
+    base.pop("student")
+    assert changed.pop("name") != base.pop("name")
+    assert changed == base
+
+
 @pytest.mark.parametrize("first, second, taught_by", [
     (0.22, 0.80, "teacher_finger_pull_flap_retrain"),  # the aims' s202 at first, then better
     (0.22, 0.10, "teacher_finger_pull_flap"),  # the retrain lower: the first teaches

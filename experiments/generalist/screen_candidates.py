@@ -101,6 +101,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_rule_retrain": ("pipeline=distilled_pairs_rule_retrain",),
     # and the student acting on its mean action in its DAgger rollouts
     "distilled_pairs_student_mean": ("pipeline=distilled_pairs_student_mean",),
+    # round 22's with the student acting on samples of std 0.3 (in place of 0.1) in its rollouts
+    "distilled_pairs_student_noise": ("pipeline=distilled_pairs_student_noise",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -126,5 +128,6 @@ ROUNDS = {
     21: ("distilled_pairs_validated_marks",),
     22: ("distilled_pairs_rule_retrain",),
     23: ("distilled_pairs_student_mean",),
+    24: ("distilled_pairs_student_noise",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

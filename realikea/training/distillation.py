@@ -57,8 +57,8 @@ def teacher_paths(cfg: DictConfig) -> dict[str, Path]:
 def check_teachers(cfg: DictConfig, draw_groups: list[str]) -> None:
     """Refuse `distill.teachers` (naming the input) when a group is unknown, a group of the
     run's draw has no teacher, a checkpoint is missing or unreadable, or a teacher observes or
-    acts on another layout than the student; and a `distill.student_acts` not in
-    `STUDENT_ACTS`."""
+    acts on another layout than the student; a `distill.student_acts` not in `STUDENT_ACTS`;
+    and a `distill.student_std` that is not a number above 0."""
     if cfg.asset.get("follow_success") is not None:
         raise RealIkeaError(
             "distill.teachers: a distilled run keeps each env in its group; drop "
@@ -67,6 +67,9 @@ def check_teachers(cfg: DictConfig, draw_groups: list[str]) -> None:
     acts = cfg.distill.get("student_acts", "sample")
     if acts not in STUDENT_ACTS:
         raise RealIkeaError(f"distill.student_acts={acts}: use one of {', '.join(STUDENT_ACTS)}")
+    std = cfg.distill.student_std
+    if isinstance(std, bool) or not isinstance(std, int | float) or std <= 0:
+        raise RealIkeaError(f"distill.student_std={std!r}: use an action std above 0, e.g. 0.1")
     paths = teacher_paths(cfg)
     unknown = sorted(set(paths) - set(GROUPS))
     if unknown:
