@@ -472,44 +472,43 @@ def test_round_twenty_twos_stages_are_round_twenty_ones_with_teacher_rule_retrai
     assert retrain == before
 
 
-def test_round_twenty_threes_stages_are_round_twenty_twos_but_the_student_acts_on_its_mean():
-    """pipeline=distilled_pairs_student_mean: round 22's pipeline (so its teachers of a seed can
-    be copied); only the student's rollouts act on its mean action."""
-    launch = [*LAUNCH, "pipeline=distilled_pairs_student_mean"]
-    mean = load_config(launch)
+def assert_round_twenty_two_but_one_student_setting(pipeline, key, value, was):
+    """`pipeline` is round 22's (so its teachers of a seed can be copied) but for one setting
+    of the student's, `distill.<key>`: `value` in place of round 22's `was`, set as the last of
+    the student's overrides. Returns the student stage's config."""
+    launch = [*LAUNCH, f"pipeline={pipeline}"]
+    cfg = load_config(launch)
     before = load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
-    student = stage_config(mean, launch, student_stage(mean))
+    student = stage_config(cfg, launch, student_stage(cfg))
     previous = stage_config(before, launch, student_stage(before))
-    assert (student.distill.student_acts, before.distill.student_acts) == ("mean", "sample")
-    assert previous.distill.student_acts == "sample"
-    student.distill.student_acts = "sample"
-    assert without_pipeline(student) == without_pipeline(previous)
-    changed = OmegaConf.to_container(mean.pipeline)
+    assert (student.distill[key], before.distill[key], previous.distill[key]) == (value, was, was)
+    compared = student.copy()
+    compared.distill[key] = was
+    assert without_pipeline(compared) == without_pipeline(previous)
+    changed = OmegaConf.to_container(cfg.pipeline)
     base = OmegaConf.to_container(before.pipeline)
-    assert changed.pop("student")["overrides"][-1] == "distill.student_acts=mean"
+    assert changed.pop("student")["overrides"][-1] == f"distill.{key}={value}"
     base.pop("student")
     assert changed.pop("name") != base.pop("name")
     assert changed == base
+    return student
+
+
+def test_round_twenty_threes_stages_are_round_twenty_twos_but_the_student_acts_on_its_mean():
+    """pipeline=distilled_pairs_student_mean: only the student's rollouts act on its mean
+    action."""
+    assert_round_twenty_two_but_one_student_setting(
+        "distilled_pairs_student_mean", "student_acts", "mean", "sample"
+    )
 
 
 def test_round_twenty_fours_stages_are_round_twenty_twos_but_the_student_samples_wider():
-    """pipeline=distilled_pairs_student_noise: round 22's pipeline (so its teachers of a seed can
-    be copied); only the student's action std in its rollouts differs, and it acts on samples."""
-    launch = [*LAUNCH, "pipeline=distilled_pairs_student_noise"]
-    noise = load_config(launch)
-    before = load_config([*LAUNCH, "pipeline=distilled_pairs_rule_retrain"])
-    student = stage_config(noise, launch, student_stage(noise))
-    previous = stage_config(before, launch, student_stage(before))
-    assert (student.distill.student_std, previous.distill.student_std) == (0.3, 0.1)
-    assert student.distill.student_acts == previous.distill.student_acts == "sample"
-    student.distill.student_std = 0.1
-    assert without_pipeline(student) == without_pipeline(previous)
-    changed = OmegaConf.to_container(noise.pipeline)
-    base = OmegaConf.to_container(before.pipeline)
-    assert changed.pop("student")["overrides"][-1] == "distill.student_std=0.3"
-    base.pop("student")
-    assert changed.pop("name") != base.pop("name")
-    assert changed == base
+    """pipeline=distilled_pairs_student_noise: only the student's action std in its rollouts
+    differs, and it acts on samples."""
+    student = assert_round_twenty_two_but_one_student_setting(
+        "distilled_pairs_student_noise", "student_std", 0.3, 0.1
+    )
+    assert student.distill.student_acts == "sample"
 
 
 @pytest.mark.parametrize("first, second, taught_by", [
