@@ -26,6 +26,7 @@ FRICTION_CLASSES = {
     "rubberized": 0.9,
 }
 BASE_KINDS = {"drawer": "slide", "door": "hinge", "flap": "hinge"}
+SYNTHETIC_PREFIX = "syn_"  # the ids of synthetic parts (realikea/assets/synthetic.py)
 
 
 def group_name(category: str, kind: str) -> str:
@@ -53,6 +54,15 @@ def imported_dir(root: Path | None = None) -> Path:
     if root is None and "REALIKEA_CATALOG" not in os.environ:
         return WORKSPACE / "assets" / "imported"
     return (Path(root) if root is not None else catalog_dir()) / "imported"
+
+
+def synthetic_dir(root: Path | None = None) -> Path:
+    """Where synthetic parts live (`realikea.assets.synthetic`): `synthetic/` in an explicit
+    catalog folder (`root` or `$REALIKEA_CATALOG`), else the workspace's
+    `outputs/synthetic_parts/` (generated, outside git)."""
+    if root is None and "REALIKEA_CATALOG" not in os.environ:
+        return WORKSPACE / "outputs" / "synthetic_parts"
+    return (Path(root) if root is not None else catalog_dir()) / "synthetic"
 
 
 def content_hash(payload: object) -> str:
@@ -126,8 +136,17 @@ class Configuration:
 class Catalog:
     """All parts (catalog rows plus imported twins) and bases, with lookups that name bad ids."""
 
-    def __init__(self, parts: list[Part], bases: list[Base], split: dict[str, str] | None = None):
+    def __init__(
+        self,
+        parts: list[Part],
+        bases: list[Base],
+        split: dict[str, str] | None = None,
+        synthetic: list[Part] = (),
+    ):
         self.parts = {p.id: p for p in parts}
+        # training-only parts past a family's sizes (realikea/assets/synthetic.py): resolved by
+        # `part`, never in `parts`, a split or the catalog's count
+        self.synthetic = {p.id: p for p in synthetic}
         self.bases = {b.id: b for b in bases}
         for kind, items, rows in (("part", self.parts, parts), ("base", self.bases, bases)):
             if len(items) != len(rows):
@@ -139,18 +158,24 @@ class Catalog:
 
     @classmethod
     def load(cls, root: Path | None = None) -> Catalog:
-        """Read `parts.csv`, `bases.csv` and `split.csv` of `root` (default `catalog_dir()`) and
-        every imported part (`imported_dir(root)`)."""
-        imported = imported_dir(root)
+        """Read `parts.csv`, `bases.csv` and `split.csv` of `root` (default `catalog_dir()`),
+        every imported part (`imported_dir(root)`) and every synthetic part
+        (`synthetic_dir(root)`)."""
+        imported, made = imported_dir(root), synthetic_dir(root)
         root = Path(root) if root is not None else catalog_dir()
         parts = [_part_from_row(row, root / "parts.csv") for row in _rows(root / "parts.csv")]
         parts += [_imported_part(path) for path in sorted(imported.glob("*/part.json"))]
         bases = [_base_from_row(row, root / "bases.csv") for row in _rows(root / "bases.csv")]
         split_file = root / SPLIT_FILE
         split = read_split(split_file, parts) if split_file.is_file() else None
-        return cls(parts, bases, split)
+        synthetic = [
+            _synthetic_part(path) for path in sorted(made.glob(f"{SYNTHETIC_PREFIX}*.json"))
+        ]
+        return cls(parts, bases, split, synthetic)
 
     def part(self, part_id: str) -> Part:
+        if part_id in self.synthetic:
+            return self.synthetic[part_id]
         if part_id not in self.parts:
             raise RealIkeaError(_unknown("part", part_id, self.parts))
         return self.parts[part_id]
@@ -270,6 +295,14 @@ def _imported_part(path: Path) -> Part:
     return Part(
         meta["id"], meta["category"], "imported", meta["friction"], {}, path.parent / "mesh.ply"
     )
+
+
+def _synthetic_part(path: Path) -> Part:
+    meta = json.loads(path.read_text())
+    _check_common(meta["id"], meta["category"], meta["friction"], path)
+    if FAMILIES.get(meta["family"]) is None or not meta["id"].startswith(SYNTHETIC_PREFIX):
+        raise RealIkeaError(f"{path}: not a synthetic part of a catalog family")
+    return Part(meta["id"], meta["category"], meta["family"], meta["friction"], meta["dims"])
 
 
 def _base_from_row(row: dict[str, str], path: Path) -> Base:

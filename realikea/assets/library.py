@@ -10,7 +10,8 @@ import mujoco
 import numpy as np
 
 from realikea.assets.build import WorkflowSettings, build_library
-from realikea.assets.catalog import Catalog, Configuration
+from realikea.assets.catalog import Catalog, Configuration, synthetic_dir
+from realikea.assets.synthetic import check_spec, size_law_parts, write_synthetic
 from realikea.errors import RealIkeaError
 from realikea.files import repo_path
 from realikea.sources import SOURCES, model_path
@@ -85,6 +86,38 @@ class TrainingDraw:
         return members[k % len(members)]
 
 
+def withheld(catalog: Catalog, asset, candidates: list[Configuration]) -> set[str]:
+    """`asset.withhold`'s part ids, each a catalog part the draw would otherwise hold, or an
+    error naming those that are not."""
+    ids = list(asset.get("withhold") or ())
+    unknown = [p for p in ids if p not in catalog.parts]
+    if unknown:
+        raise RealIkeaError(f"asset.withhold: unknown part(s) {unknown}")
+    drawn = {c.part.id for c in candidates}
+    absent = [p for p in ids if p not in drawn]
+    if absent:
+        raise RealIkeaError(
+            f"asset.withhold: {absent} not in the draw (asset.category={asset.category} "
+            f"kind={asset.get('kind')} split={asset.get('split', 'all')})"
+        )
+    return set(ids)
+
+
+def with_synthetic(asset, candidates: list[Configuration]) -> list[Configuration]:
+    """The candidates and, with `asset.synthetic` ({span, per_family}), every synthetic part of
+    their families (`realikea.assets.synthetic`) on each of their bases, stored for the env
+    pool's workers to resolve."""
+    spec = asset.get("synthetic")
+    if spec is None:
+        return candidates
+    span, per_family = check_spec(spec)
+    parts = list({c.part.id: c.part for c in candidates}.values())
+    made = size_law_parts(parts, span, per_family)
+    write_synthetic(made, synthetic_dir())
+    bases = list({c.base.id: c.base for c in candidates}.values())
+    return candidates + [Configuration(p, b) for p in made for b in bases]
+
+
 def training_draw(cfg, n: int, seed: int = 0) -> TrainingDraw:
     """`n` configurations of the `asset` group by the stratified draw (`training_configurations`
     says how), not yet built."""
@@ -95,6 +128,8 @@ def training_draw(cfg, n: int, seed: int = 0) -> TrainingDraw:
             asset.category, asset.part, asset.base, asset.get("kind"), asset.get("split", "all")
         )
     )
+    out = withheld(catalog, asset, candidates)
+    candidates = with_synthetic(asset, [c for c in candidates if c.part.id not in out])
     if not candidates:
         raise RealIkeaError(
             f"no configuration matches asset.category={asset.category} part={asset.part} "
