@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from realikea.assets.catalog import SYNTHETIC_PREFIX, Part, content_hash
-from realikea.assets.split import main_dimension
+from realikea.assets.split import MAIN_DIMENSIONS, main_dimension
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
 
@@ -49,13 +49,13 @@ def check_spec(spec) -> tuple[tuple[float, float], int]:
     return (float(span[0]), float(span[1])), per_family
 
 
-def main_key(part) -> str:
-    """The name of the part's main dimension."""
-    value = main_dimension(part)
-    return next(k for k, v in part.dims.items() if v == value)
+def main_key(part: Part) -> str:
+    """The name of the part's main dimension (`split.main_dimension`'s)."""
+    main_dimension(part)  # names the part if it has none
+    return next(k for k in MAIN_DIMENSIONS if k in part.dims)
 
 
-def size_law_parts(parts: list, span: tuple[float, float], per_family: int) -> list:
+def size_law_parts(parts: list[Part], span: tuple[float, float], per_family: int) -> list[Part]:
     """`per_family` synthetic parts of each family of `parts` (see the module docstring)."""
     families: dict[str, list] = {}
     for p in parts:
@@ -81,7 +81,7 @@ def size_law_parts(parts: list, span: tuple[float, float], per_family: int) -> l
     return made
 
 
-def write_synthetic(parts: list, folder: Path) -> None:
+def write_synthetic(parts: list[Part], folder: Path) -> None:
     """Each part as `folder/<id>.json` (atomic; the same id always holds the same part)."""
     for p in parts:
         meta = {"id": p.id, "category": p.category, "family": p.family}
