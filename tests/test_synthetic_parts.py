@@ -41,14 +41,14 @@ def d_handles(*sizes: float) -> list[Part]:
 
 
 def test_main_dimensions_are_log_spaced_past_both_ends_of_the_family():
-    made = size_law_parts(d_handles(0.096, 0.128, 0.224), (2 / 3, 1.5), 5)
+    made, _ = size_law_parts(d_handles(0.096, 0.128, 0.224), (2 / 3, 1.5), 5)
     sizes = [p.dims["cc"] for p in made]
     assert sizes[0] == pytest.approx(0.064, abs=1e-5) and sizes[-1] == pytest.approx(0.336)
     assert np.allclose(np.diff(np.log(sizes)), np.log(sizes[1] / sizes[0]), atol=1e-3)
 
 
 def test_other_dimensions_follow_the_family_s_straight_line_law():
-    made = size_law_parts(d_handles(0.096, 0.128, 0.224), (2 / 3, 1.5), 3)
+    made, _ = size_law_parts(d_handles(0.096, 0.128, 0.224), (2 / 3, 1.5), 3)
     for p in made:
         assert p.dims["projection"] == pytest.approx(0.02 + 0.05 * p.dims["cc"], abs=1e-5)
         assert p.dims["rod_diameter"] == pytest.approx(0.01)
@@ -58,20 +58,29 @@ def test_other_dimensions_follow_the_family_s_straight_line_law():
 
 def test_a_dimension_falling_past_the_small_end_stops_at_half_its_smallest_value():
     family = d_handles(0.2, 0.3)
-    family[0].dims["rod_diameter"], family[1].dims["rod_diameter"] = 0.004, 0.014
-    smallest = size_law_parts(family, (0.5, 1.0), 2)[0]  # the line gives -0.006 at cc 0.1
-    assert smallest.dims["rod_diameter"] == pytest.approx(0.002)
+    family[0].dims["projection"], family[1].dims["projection"] = 0.04, 0.12
+    family[0].dims["bend_radius"] = family[1].dims["bend_radius"] = 0.006
+    made, refused = size_law_parts(family, (0.5, 1.0), 2)  # the line gives -0.04 at cc 0.1
+    assert not refused and made[0].dims["projection"] == pytest.approx(0.02)
+
+
+def test_a_size_the_family_s_rules_refuse_is_left_out_and_named():
+    family = d_handles(0.2, 0.3)
+    family[0].dims["rod_diameter"], family[1].dims["rod_diameter"] = 0.008, 0.014
+    made, refused = size_law_parts(family, (0.5, 1.0), 2)  # a 4 mm rod at cc 0.1
+    assert [p.dims["cc"] for p in made] == [0.3]
+    assert len(refused) == 1 and "rod_diameter too small" in refused[0]
 
 
 def test_a_synthetic_part_takes_the_friction_of_the_family_part_nearest_its_size():
     family = d_handles(0.1, 0.2)
     family[1] = Part("d0.2", "two_point", "d_handle", "polished_metal", family[1].dims)
-    small, large = size_law_parts(family, (0.9, 1.1), 2)
+    (small, large), _ = size_law_parts(family, (0.9, 1.1), 2)
     assert (small.friction, large.friction) == ("wood", "polished_metal")
 
 
 def test_the_catalog_resolves_a_synthetic_part_outside_its_parts_and_count(catalog_root):
-    made = size_law_parts(d_handles(0.096, 0.128), (2 / 3, 1.5), 2)
+    made, _ = size_law_parts(d_handles(0.096, 0.128), (2 / 3, 1.5), 2)
     write_synthetic(made, catalog_root / "synthetic")
     catalog = Catalog.load()
     assert catalog.part(made[0].id) == made[0]
@@ -93,12 +102,14 @@ def test_a_withheld_part_the_draw_does_not_hold_is_refused(withhold, says):
         training_draw(load_config([*TWO_POINT_FLAPS, f"asset.withhold={withhold}"]), 64)
 
 
-def test_synthetic_parts_join_the_draw_on_its_bases_and_are_stored(catalog_root):
+def test_synthetic_parts_join_the_draw_on_its_bases_and_are_stored(catalog_root, capsys):
     cfg = load_config([*TWO_POINT_FLAPS, f"asset.withhold={SMALLEST}", SYNTHETIC])
     draw = training_draw(cfg, 64)
     configs = [c for group in draw.groups.values() for c in group]
     made = [c for c in configs if c.part.id.startswith("syn_")]
-    assert len(made) == 5 * 4 and {c.base.id for c in made} == {"flap_w60_h40"}
+    # the largest flat bar's straight-line posts stand past its ends: left out, and named
+    assert "syn_flat_bar_5040" in capsys.readouterr().err
+    assert len(made) == 5 * 4 - 1 and {c.base.id for c in made} == {"flap_w60_h40"}
     stored = {p.name.removesuffix(".json") for p in (catalog_root / "synthetic").iterdir()}
     assert stored == {c.part.id for c in made}
     smallest = min(c.part.dims["cc"] for c in made if c.part.family == "d_handle")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -112,7 +113,9 @@ def with_synthetic(asset, candidates: list[Configuration]) -> list[Configuration
         return candidates
     span, per_family = check_spec(spec)
     parts = list({c.part.id: c.part for c in candidates}.values())
-    made = size_law_parts(parts, span, per_family)
+    made, refused = size_law_parts(parts, span, per_family)
+    for reason in refused:
+        print(f"asset.synthetic: left out {reason}", file=sys.stderr, flush=True)
     write_synthetic(made, synthetic_dir())
     bases = list({c.base.id: c.base for c in candidates}.values())
     return candidates + [Configuration(p, b) for p in made for b in bases]

@@ -6,8 +6,10 @@ each family among them, makes `per_family` parts whose main dimension (`split.ma
 log-spaced from `span[0]` times the family's smallest to `span[1]` times its largest, ends
 included; every other dimension comes from a straight-line fit of that dimension on the main one
 over the family's parts (its own size law, continued past its ends), kept at or above half the
-family's smallest value of it so that no wall or rod thins to nothing. The friction class is the
-nearest part's. A synthetic part is training-only: no split names it and no evaluation draws it.
+family's smallest value of it so that no wall or rod thins to nothing; a size whose dimensions
+the family's own rules refuse (a bar's posts past its ends) is left out and named. The friction
+class is the nearest part's. A synthetic part is training-only: no split names it and no
+evaluation draws it.
 
 Ids are `syn_<family>_<main dimension in 0.1 mm>_<hash of the dimensions>`, so two laws that
 make different parts never share an id. `write_synthetic` stores each part as one JSON file
@@ -24,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from realikea.assets.catalog import SYNTHETIC_PREFIX, Part, content_hash
+from realikea.assets.shapes import part_mesh
 from realikea.assets.split import MAIN_DIMENSIONS, main_dimension
 from realikea.errors import RealIkeaError
 from realikea.files import atomic_write_text
@@ -55,13 +58,16 @@ def main_key(part: Part) -> str:
     return next(k for k in MAIN_DIMENSIONS if k in part.dims)
 
 
-def size_law_parts(parts: list[Part], span: tuple[float, float], per_family: int) -> list[Part]:
-    """`per_family` synthetic parts of each family of `parts` (see the module docstring)."""
+def size_law_parts(
+    parts: list[Part], span: tuple[float, float], per_family: int
+) -> tuple[list[Part], list[str]]:
+    """`per_family` synthetic parts of each family of `parts` (see the module docstring), less
+    those whose dimensions the family's own rules refuse (`part_mesh`), and why each was."""
     families: dict[str, list] = {}
     for p in parts:
         if p.family != "imported":
             families.setdefault(p.family, []).append(p)
-    made = []
+    made, refused = [], []
     for family, members in sorted(families.items()):
         key = main_key(members[0])
         x = np.array([p.dims[key] for p in members])
@@ -77,8 +83,13 @@ def size_law_parts(parts: list[Part], span: tuple[float, float], per_family: int
                 dims[name] = round(value, 5)
             nearest = min(members, key=lambda p: abs(np.log(p.dims[key] / size)))
             pid = f"{SYNTHETIC_PREFIX}{family}_{round(size * 1e4)}_{content_hash(dims)[:6]}"
+            try:
+                part_mesh(family, dims)
+            except RealIkeaError as err:
+                refused.append(f"{pid}: {err}")
+                continue
             made.append(Part(pid, nearest.category, family, nearest.friction, dims))
-    return made
+    return made, refused
 
 
 def write_synthetic(parts: list[Part], folder: Path) -> None:
