@@ -123,7 +123,8 @@ def report(read: dict[str, dict]) -> str:
                 b["trained", mode],
             ]
             v_a, v_b, t_a, t_b = (f"{x:.2f}" for x in cells)
-            rows.append((str(seed), mode, v_a, v_b, f"{gain:+.2f}", t_a, t_b, f"{-cost:+.2f}"))
+            gained, lost = f"{gain + 0.0:+.2f}", f"{0.0 - cost:+.2f}"  # no "-0.00"
+            rows.append((str(seed), mode, v_a, v_b, gained, t_a, t_b, lost))
     verdict = "go: yes" if all(passes) else "go: no"
     return "\n".join([
         "# The synthetic-parts pilot: two-point flap teachers, validation draw",
