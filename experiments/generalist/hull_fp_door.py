@@ -15,15 +15,15 @@ results/hull_fp_door/NAME/cells.jsonl (hull, high, 50 randomized episodes on dra
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
+
+from kept_queue import driver_arguments, kept_queue
 
 from realikea.eval.library_grid import evaluate_grid
 from realikea.eval.sweep import checkpoints
 from realikea.files import WORKSPACE
-from realikea.reports.learning_curve import plot_learning_curve
-from realikea.training.queue import QueuedRun, RunQueue, keep_run
+from realikea.training.queue import QueuedRun
 
 HERE = Path(__file__).resolve().parent
 KEPT = HERE / "results/hull_fp_door"
@@ -40,19 +40,8 @@ RUN = QueuedRun(
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--dry-run", action="store_true", help="print the run and stop")
-    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
-    args = parser.parse_args(argv)
-    queue = RunQueue(
-        WORK,
-        lambda run: f"model_{run.iterations - 1}.pt",
-        lambda run, seconds: plot_learning_curve(
-            keep_run(WORK / run.name, KEPT / run.name, seconds)
-        ),
-        lambda run: (KEPT / run.name / "wall.json").is_file(),
-        parked=PARKED,
-    )
+    args = driver_arguments(__doc__, argv)
+    queue = kept_queue(WORK, KEPT, PARKED)
     status = queue.serve([RUN], 1, dry_run=args.dry_run, park=args.park)
     if status or args.dry_run or args.park or not queue.kept(RUN):
         return status

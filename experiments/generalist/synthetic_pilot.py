@@ -19,17 +19,17 @@ to results/synthetic_pilot/pilot.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
+
+from kept_queue import driver_arguments, kept_queue
 
 from realikea.eval.setup import eval_setup, evaluate
 from realikea.eval.sweep import VALIDATION_SEED, checkpoints
 from realikea.files import WORKSPACE, atomic_write_text, shown_path
 from realikea.markdown import table
-from realikea.reports.learning_curve import plot_learning_curve
-from realikea.training.queue import QueuedRun, RunQueue, keep_run
+from realikea.training.queue import QueuedRun
 
 HERE = Path(__file__).resolve().parent
 KEPT = HERE / "results/synthetic_pilot"
@@ -144,19 +144,8 @@ def report(read: dict[str, dict]) -> str:
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--dry-run", action="store_true", help="print the runs and stop")
-    parser.add_argument("--park", action="store_true", help="stop at next checkpoints; copy to git")
-    args = parser.parse_args(argv)
-    queue = RunQueue(
-        WORK,
-        lambda run: f"model_{run.iterations - 1}.pt",
-        lambda run, seconds: plot_learning_curve(
-            keep_run(WORK / run.name, KEPT / run.name, seconds)
-        ),
-        lambda run: (KEPT / run.name / "wall.json").is_file(),
-        parked=PARKED,
-    )
+    args = driver_arguments(__doc__, argv)
+    queue = kept_queue(WORK, KEPT, PARKED)
     status = queue.serve(runs(), 2, dry_run=args.dry_run, park=args.park)
     if status or args.dry_run or args.park or not all(queue.kept(r) for r in runs()):
         return status
