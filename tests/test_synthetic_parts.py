@@ -125,6 +125,7 @@ def test_synthetic_parts_join_the_draw_on_its_bases_and_are_stored(catalog_root,
         ({"span": [0.5, "x"], "per_family": 4}, "span"),
         ({"span": [0.5, 1.5], "per_family": 1}, "per_family"),
         ({"span": [0.5, 1.5], "per_family": True}, "per_family"),
+        (3, "use null or"),
     ],
 )
 def test_a_bad_synthetic_setting_is_refused_before_any_part_is_written(spec, says, catalog_root):

@@ -20,7 +20,7 @@ make different parts never share an id. `write_synthetic` stores each part as on
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +36,10 @@ FLOOR = 0.5  # a fitted dimension stays at or above this share of the family's s
 
 def check_spec(spec) -> tuple[tuple[float, float], int]:
     """`asset.synthetic`'s (span, per_family), or an error naming the bad value."""
+    if not isinstance(spec, Mapping):
+        raise RealIkeaError(
+            f"asset.synthetic={spec!r}: use null or {{span: [low, high], per_family: N}}"
+        )
     span, per_family = spec.get("span"), spec.get("per_family")
     if (
         not isinstance(span, Sequence)
