@@ -134,7 +134,8 @@ class Configuration:
 
 
 class Catalog:
-    """All parts (catalog rows plus imported twins) and bases, with lookups that name bad ids."""
+    """All parts (catalog rows plus imported twins; synthetic parts by id) and bases, with lookups
+    that name bad ids."""
 
     def __init__(
         self,
