@@ -50,10 +50,8 @@ ARMS = {"withheld": (WITHHOLD,), "synthetic": (WITHHOLD, SYNTHETIC)}
 SEEDS = (30, 31)
 MODES = ("normal", "high")
 EPISODES_A_PART, EPISODES_TRAINED = 10, 50
-GO_GAIN, GO_COST = (
-    0.10,
-    0.05,
-)  # the go rule: validation parts up at least, trained parts down at most
+# the go rule: the validation parts up at least GO_GAIN, the trained parts down at most GO_COST
+GO_GAIN, GO_COST = 0.10, 0.05
 
 
 def runs() -> list[QueuedRun]:

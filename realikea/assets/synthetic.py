@@ -62,6 +62,14 @@ def main_key(part: Part) -> str:
     return next(k for k in MAIN_DIMENSIONS if k in part.dims)
 
 
+def size_law(members: list[Part], key: str, name: str) -> tuple[np.ndarray, float]:
+    """Dimension `name` of a family on its main dimension `key`: the straight-line fit over the
+    parts that have it (their mean where they share one size) and its floor."""
+    xs, ys = np.array([(p.dims[key], p.dims[name]) for p in members if name in p.dims]).T
+    fit = np.polyfit(xs, ys, 1) if len(set(xs)) > 1 else np.array([0.0, ys.mean()])
+    return fit, FLOOR * float(ys.min())
+
+
 def size_law_parts(
     parts: list[Part], span: tuple[float, float], per_family: int
 ) -> tuple[list[Part], list[str]]:
@@ -76,15 +84,11 @@ def size_law_parts(
         key = main_key(members[0])
         x = np.array([p.dims[key] for p in members])
         names = sorted({k for p in members for k in p.dims} - {key})
-        sizes = np.geomspace(span[0] * x.min(), span[1] * x.max(), per_family)
-        for size in sizes:
+        laws = {name: size_law(members, key, name) for name in names}  # once a family
+        for size in np.geomspace(span[0] * x.min(), span[1] * x.max(), per_family):
             dims = {key: round(float(size), 5)}
-            for name in names:
-                have = [(p.dims[key], p.dims[name]) for p in members if name in p.dims]
-                xs, ys = np.array(have).T
-                fit = np.polyfit(xs, ys, 1) if len(set(xs)) > 1 else (0.0, ys.mean())
-                value = max(float(np.polyval(fit, size)), FLOOR * float(ys.min()))
-                dims[name] = round(value, 5)
+            for name, (fit, floor) in laws.items():
+                dims[name] = round(max(float(np.polyval(fit, size)), floor), 5)
             nearest = min(members, key=lambda p: abs(np.log(p.dims[key] / size)))
             pid = f"{SYNTHETIC_PREFIX}{family}_{round(size * 1e4)}_{content_hash(dims)[:6]}"
             try:
