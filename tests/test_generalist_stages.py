@@ -24,11 +24,17 @@ def test_two_stages_side_by_side_then_one_show_their_overlap(stages, tmp_path, c
                stage("student", 2200, 2800, iterations=200, resumed_at=100)]  # fmt: skip
     records[-1]["teachers"] = {"knob_door": "teacher_door", "knob_flap": "teacher_flap"}
     records[0]["validation"] = {"knob_door": 0.78}  # judged on the validation draw
+    records[1]["validation"] = {"knob_flap": 0.92, "two_point_flap": 0.90}
+    records[1]["validation_high"] = {"knob_flap": 0.76, "two_point_flap": 0.70}  # also in high
     (tmp_path / "stages.json").write_text(json.dumps(records))
     assert stages.main([str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "student's teachers: knob_door from teacher_door, knob_flap from teacher_flap" in out
-    assert "| teacher_flap | 0.0 | 10.0 | 10.0 | 400 | 1.50 | 0 | knob_door 0.90 | – |" in out
+    assert (
+        "| teacher_flap | 0.0 | 10.0 | 10.0 | 400 | 1.50 | 0 | knob_door 0.90 | knob_flap 0.92"
+        " / high 0.76, two_point_flap 0.90 / high 0.70 |"
+    ) in out
+    assert "| student | 20.0 | 30.0 | 10.0 | 200 | 6.00 | 100 | knob_door 0.90 | – |" in out
     assert "| 0 | knob_door 0.90 | knob_door 0.78 |" in out  # the door teacher's
     assert "| student | 20.0 | 30.0 | 10.0 | 200 | 6.00 | 100 |" in out
     # 40 stage-minutes in a 30-minute span

@@ -16,7 +16,7 @@ import pytest
 from conftest import SMALL_RUN
 from omegaconf import OmegaConf
 
-from realikea.assets.catalog import GROUPS
+from realikea.assets.catalog import GROUPS, group_name
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import VALIDATION_SEED
@@ -375,7 +375,7 @@ def test_under_the_validation_judge_a_teacher_is_read_on_its_mean_action_once(
     rates = {(door.name, "two_point_door"): 0.78, (fine.name, "two_point_door"): 0.90}
     judged = []
 
-    def validation(checkpoint, groups, episodes, given_launch, label):
+    def validation(checkpoint, groups, episodes, given_launch, label, resistance):
         judged.append((label, tuple(groups), episodes, given_launch))
         return {g: rates[checkpoint.parent.name, g] for g in groups}
 
@@ -424,7 +424,7 @@ def test_the_teacher_rule_reads_training_while_the_marks_read_the_validation_dra
     rates = {"two_point_door": 0.78, "finger_pull_flap": 0.64, "knob_flap": 0.98}
     judged = []
 
-    def validation(checkpoint, groups, episodes, given_launch, label):
+    def validation(checkpoint, groups, episodes, given_launch, label, resistance):
         judged.append((label, tuple(groups)))
         return {g: rates[g] for g in groups}
 
@@ -509,6 +509,107 @@ def test_round_twenty_fours_stages_are_round_twenty_twos_but_the_student_samples
         "distilled_pairs_student_noise", "student_std", 0.3, 0.1
     )
     assert student.distill.student_acts == "sample"
+
+
+def test_round_twenty_fives_stages_are_round_twenty_fours_but_teachers_are_also_read_in_high():
+    """pipeline=distilled_pairs_judged_high: round 24's stages, marks and student (so a seed's
+    teachers can be copied); only the modes a teacher is read in differ."""
+    judged, before = (
+        OmegaConf.to_container(load_config([*LAUNCH, f"pipeline={name}"]))
+        for name in ("distilled_pairs_judged_high", "distilled_pairs_student_noise")
+    )
+    assert judged["pipeline"].pop("judge_resistances") == ["high"]
+    assert before["pipeline"].pop("judge_resistances") == []
+    assert judged["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert judged == before
+
+
+def test_a_teacher_read_in_high_too_is_judged_by_its_lower_rate(tmp_path, monkeypatch):
+    """Round 25 on the aims' seed 201's validation reads: the flap teacher opens knob and
+    two-point flaps 0.92 / 0.90 in normal and 0.76 / 0.70 in high, so both get a fine-tune
+    (none under round 24, which reads normal only); the two-point one (0.90 in both) teaches,
+    the knob one (0.74 in high) does not; the finger-pull flap teacher (0.90 / 0.72) trains
+    again. Each mode's reads are kept in stages.json, and a resumed launch reads nothing."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_judged_high"]
+    cfg = load_config(launch)
+    flap = teacher_stage(cfg, "flap")
+    knob, two_point = (fine_tune_stage(cfg, "flap", c) for c in ("knob", "two_point"))
+    own = teacher_stage(cfg, "flap", "finger_pull")
+    rates = {  # (stage, mode): rates; "" is the launch's own mode, normal
+        (flap.name, ""): {"knob_flap": 0.92, "two_point_flap": 0.90},
+        (flap.name, "high"): {"knob_flap": 0.76, "two_point_flap": 0.70},
+        (knob.name, ""): {"knob_flap": 0.94}, (knob.name, "high"): {"knob_flap": 0.74},
+        (two_point.name, ""): {"two_point_flap": 0.90},
+        (two_point.name, "high"): {"two_point_flap": 0.90},
+        (own.name, ""): {"finger_pull_flap": 0.90}, (own.name, "high"): {"finger_pull_flap": 0.72},
+    }  # fmt: skip
+    read = []
+
+    def validation(checkpoint, groups, episodes, given_launch, label, resistance):
+        read.append((label, tuple(groups), resistance))
+        return {g: rates[label, resistance][g] for g in groups}
+
+    monkeypatch.setattr(pipeline_module, "validation_success", validation)
+    groups = ["knob_flap", "two_point_flap", "finger_pull_flap"]
+    checkpoint = tmp_path / flap.name / "model_399.pt"
+    checkpoint.parent.mkdir()
+    rows = [
+        f"{i},/success/{g},{r}"
+        for i in range(25)
+        for g, r in (("knob_flap", 0.95), ("two_point_flap", 0.99), ("finger_pull_flap", 0.0))
+    ]
+    (checkpoint.parent / "metrics.csv").write_text("\n".join(["iteration,tag,value", *rows]))
+    records = [{"name": s.name, "success": {}} for s in (flap, knob, two_point, own)]
+    (tmp_path / "stages.json").write_text(json.dumps(records))
+    line, teachers = Pipeline(cfg, launch, tmp_path), {}
+    assert line.taught(flap, checkpoint, groups, teachers) == [knob, two_point, own]
+    assert read == [(flap.name, ("knob_flap", "two_point_flap"), m) for m in ("", "high")]
+    kept = json.loads((tmp_path / "stages.json").read_text())[0]
+    assert (kept["validation"], kept["validation_high"]) == (
+        rates[flap.name, ""],
+        rates[flap.name, "high"],
+    )
+    for stage in (knob, two_point):
+        group = group_name(stage.category, stage.kind)
+        tuned = log_success(tmp_path / stage.name, group, 0.99)
+        assert line.taught(stage, tuned, groups, teachers) == []
+    assert teachers == {"knob_flap": checkpoint, "two_point_flap": tuned}
+    own_checkpoint = log_success(tmp_path / own.name, "finger_pull_flap", 0.95)
+    again = teacher_stage(cfg, "flap", "finger_pull", retrain=True)
+    assert line.taught(own, own_checkpoint, groups, teachers) == [again]
+    before = len(read)
+    resumed = Pipeline(cfg, launch, tmp_path)
+    assert resumed.taught(flap, checkpoint, groups, {}) == [knob, two_point, own]
+    assert resumed.taught(own, own_checkpoint, groups, {}) == [again] and len(read) == before
+    noise = load_config([*LAUNCH, "pipeline=distilled_pairs_student_noise"])  # round 24
+    assert Pipeline(noise, launch, tmp_path / "r24").taught(flap, checkpoint, groups, {}) == [own]
+
+
+def test_a_launch_in_high_reads_its_teachers_once(tmp_path, monkeypatch):
+    """The design card's launch (resistance=high) under round 25 reads each teacher in its own
+    mode only, as round 24 does, so its stages are round 24's."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_judged_high", "resistance=high"]
+    cfg = load_config(launch)
+    read = []
+
+    def validation(checkpoint, groups, episodes, given_launch, label, resistance):
+        read.append(resistance)
+        return dict.fromkeys(groups, 0.8)
+
+    monkeypatch.setattr(pipeline_module, "validation_success", validation)
+    door = teacher_stage(cfg, "door")
+    checkpoint = log_success(tmp_path / door.name, "two_point_door", 0.95)
+    ready = Pipeline(cfg, launch, tmp_path).taught(door, checkpoint, ["two_point_door"], {})
+    assert ready == [fine_tune_stage(cfg, "door", "two_point")] and read == [""]
+
+
+def test_a_teacher_read_in_another_mode_is_judged_in_that_mode_alone():
+    """`resistance=high` replaces the launch's resistance (not added to it: one mode a read)."""
+    launch = ["resistance=smooth", "resistance.damping=3", "env.seed=20", "collision=hull"]
+    overrides = validation_overrides(Path("run/teacher_door/model_399.pt"), "knob_door", 50,
+                                     launch, "high")  # fmt: skip
+    assert overrides[-2:] == ["collision=hull", "resistance=high"]
+    assert not [o for o in overrides if o.startswith("resistance") and o != "resistance=high"]
 
 
 @pytest.mark.parametrize("first, second, taught_by", [
@@ -896,6 +997,11 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.learned_judge=test", "pipeline.learned_judge=test: use null"),
         ("pipeline.learned_retrain_below=1.2", "pipeline.learned_retrain_below=1.2: use null"),
         ("pipeline.learned_retrain_below=true", "pipeline.learned_retrain_below=True: use null"),
+        ("pipeline.judge_resistances=[extreme]",
+         "pipeline.judge_resistances=['extreme']: use a list of modes of smooth, normal, high"),
+        ("pipeline.judge_resistances=high", "pipeline.judge_resistances=high: use a list"),
+        ("pipeline.judge_resistances=[high]",
+         "pipeline.judge_resistances=['high'] with pipeline.judge=training: the modes"),
         ("pipeline.validation_episodes=0", "pipeline.validation_episodes=0: use a whole number"),
         ("pipeline.validation_episodes=5.5", "pipeline.validation_episodes=5.5: use a whole"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "

@@ -103,6 +103,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_student_mean": ("pipeline=distilled_pairs_student_mean",),
     # round 22's with the student acting on samples of std 0.3 (in place of 0.1) in its rollouts
     "distilled_pairs_student_noise": ("pipeline=distilled_pairs_student_noise",),
+    # and every teacher also read in high resistance there, each rule reading its lower rate
+    "distilled_pairs_judged_high": ("pipeline=distilled_pairs_judged_high",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -129,5 +131,6 @@ ROUNDS = {
     22: ("distilled_pairs_rule_retrain",),
     23: ("distilled_pairs_student_mean",),
     24: ("distilled_pairs_student_noise",),
+    25: ("distilled_pairs_judged_high",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -1,8 +1,9 @@
 """A staged run's timeline (training/pipeline.py's RUN/stages.json): when each stage began and
 ended, in minutes after the first began, its wall minutes, seconds per iteration,
 last-window training success per group and, judged on the validation draw (`pipeline.judge:
-validation`), each teacher's success there; the student's teacher of each group where recorded;
-then the pipeline's span, the minutes of it with some
+validation`), each teacher's success there (read in other resistance modes too,
+`pipeline.judge_resistances`: "0.90 / high 0.70"); the student's teacher of each group where
+recorded; then the pipeline's span, the minutes of it with some
 stage training (a parked run's gap between launches is not) and the stages' summed minutes
 (their ratio to the former: how many trained at once on average).
 
@@ -36,6 +37,14 @@ def busy(intervals: list[tuple[float, float]]) -> float:
     return total
 
 
+def validation(record: dict, group: str) -> str:
+    """A teacher's validation reads of a group: the launch's mode, then each other mode read."""
+    others = [(k.removeprefix("validation_"), v[group]) for k, v in record.items()
+              if k.startswith("validation_") and group in v]  # fmt: skip
+    return " / ".join([f"{group} {record['validation'][group]:.2f}",
+                       *(f"{mode} {v:.2f}" for mode, v in others)])  # fmt: skip
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("run", type=Path, metavar="RUN_DIR", help="a staged run's folder")
@@ -54,7 +63,7 @@ def main(argv: list[str]) -> int:
         ended = s["ended"] - start if "ended" in s else None
         per_iteration = s["seconds"] / (s["iterations"] - s["resumed_at"])
         success = ", ".join(f"{g} {v:.2f}" for g, v in s["success"].items())
-        judged = ", ".join(f"{g} {v:.2f}" for g, v in s.get("validation", {}).items()) or "–"
+        judged = ", ".join(validation(s, g) for g in s.get("validation", {})) or "–"
         times = f"{minutes(began)} | {minutes(ended)} | {minutes(s['seconds'])}"
         print(f"| {s['name']} | {times} | {s['iterations']} | {per_iteration:.2f} | "
               f"{s['resumed_at']} | {success} | {judged} |")  # fmt: skip

@@ -61,6 +61,7 @@ from realikea.config import load_config, override_key, overrides_set
 from realikea.errors import RealIkeaError
 from realikea.eval.sweep import checkpoints
 from realikea.files import CONF_DIR, atomic_write_text
+from realikea.sim.resistance import MODES as RESISTANCE_MODES
 from realikea.training.metrics import last_window
 from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
@@ -164,6 +165,18 @@ def check_pipeline(cfg: DictConfig) -> None:
             f"pipeline.learned_judge={pipeline.learned_judge}: use null (as pipeline.judge) or "
             f"one of {', '.join(JUDGES)}"
         )
+    modes = pipeline.judge_resistances
+    if not OmegaConf.is_list(modes) or any(str(m) not in RESISTANCE_MODES for m in modes):
+        raise RealIkeaError(
+            f"pipeline.judge_resistances={modes}: use a list of modes of "
+            f"{', '.join(RESISTANCE_MODES)}"
+        )
+    if modes and "validation" not in (pipeline.judge, learned_judge(cfg)):
+        raise RealIkeaError(
+            f"pipeline.judge_resistances={list(modes)} with pipeline.judge={pipeline.judge}: "
+            "the modes are read on the validation draw; set pipeline.judge=validation or "
+            "judge_resistances=[]"
+        )
     episodes = pipeline.validation_episodes
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise RealIkeaError(f"pipeline.validation_episodes={episodes}: use a whole number >= 1")
@@ -189,6 +202,13 @@ def from_kind(cfg: DictConfig, group: str) -> bool:
     """Whether the group's named teacher (and its retrain) starts from its kind's teacher."""
     named = own_teachers(cfg).get(group)
     return bool(named is not None and named.get("from_kind", False))
+
+
+def judged_modes(cfg: DictConfig) -> list[str]:
+    """The resistance modes a teacher is read in on the validation draw: the launch's own ("")
+    and each of `pipeline.judge_resistances` other than it."""
+    own = str(cfg.resistance.name)
+    return ["", *(str(m) for m in cfg.pipeline.judge_resistances if str(m) != own)]
 
 
 def learned_judge(cfg: DictConfig) -> str:
@@ -581,21 +601,30 @@ class Pipeline:
     ) -> dict[str, float | None]:
         """Each group's success of the finished teacher (`judge`): its training success over its
         last full window, or with `validation` that of its mean action on the validation draw,
-        judged on `groups` (`validation_success`; kept in RUN/stages.json under the stage's
-        record, so a resumed launch does not judge it again)."""
+        judged on `groups`, the lowest over the launch's resistance mode and each of
+        `pipeline.judge_resistances` (`validation_success`; kept in RUN/stages.json under the
+        stage's record, `validation` and `validation_<mode>`, so a resumed launch does not judge
+        it again)."""
         if judge == "training":
             return last_window(checkpoint.parent)
-        stages = self.records()
-        record = next((s for s in stages if s["name"] == stage.name), {})
-        judged = record.get("validation", {})
-        missing = [g for g in groups if g not in judged]
-        if missing:
-            episodes = int(self.cfg.pipeline.validation_episodes)
-            judged |= validation_success(checkpoint, missing, episodes, self.launch, stage.name)
-            if record:
-                record["validation"] = judged
-                self.write_records(stages)
-        return {g: judged.get(g) for g in GROUPS}
+        reads = []
+        for mode in judged_modes(self.cfg):
+            key = f"validation_{mode}" if mode else "validation"
+            stages = self.records()
+            record = next((s for s in stages if s["name"] == stage.name), {})
+            judged = record.get(key, {})
+            missing = [g for g in groups if g not in judged]
+            if missing:
+                episodes = int(self.cfg.pipeline.validation_episodes)
+                judged |= validation_success(
+                    checkpoint, missing, episodes, self.launch, stage.name, mode
+                )
+                if record:
+                    record[key] = judged
+                    self.write_records(stages)
+            reads.append(judged)
+        return {g: min(r[g] for r in reads) if all(g in r for r in reads) else None
+                for g in GROUPS}  # fmt: skip
 
     def records(self) -> list[dict]:
         """The finished stages' records in RUN/stages.json (none yet: empty)."""

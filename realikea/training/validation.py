@@ -8,7 +8,8 @@ episodes on its mean action (most failures stalled, pushing near the bar) and 1.
 let it teach a group its student then missed. A
 pipeline with `pipeline.judge: validation` reads these rates instead: train parts, the sweep's
 validation seed (never the test draw), randomized poses, and the launch's own collision source,
-resistance mode, scene, parts and bases (`CARRIED`).
+resistance mode, scene, parts and bases (`CARRIED`); with `pipeline.judge_resistances` also in
+those modes (the aims judge a default generalist in smooth and high, its teachers train in normal).
 """
 
 from __future__ import annotations
@@ -40,25 +41,38 @@ def carried(key: str, prefix: str) -> bool:
     return key == prefix or key.startswith(prefix + ".")
 
 
-def validation_overrides(checkpoint: Path, group: str, episodes: int, launch: list[str]):
-    """`realikea eval` overrides judging `checkpoint` on `group` on the validation draw."""
+def validation_overrides(
+    checkpoint: Path, group: str, episodes: int, launch: list[str], resistance: str = ""
+):
+    """`realikea eval` overrides judging `checkpoint` on `group` on the validation draw, in
+    the launch's resistance mode or the one named."""
     kind, category = kind_and_category(group)
-    cell = [o for o in launch if any(carried(override_key(o), key) for key in CARRIED)]
+    carry = [key for key in CARRIED if not (resistance and key == "resistance")]
+    cell = [o for o in launch if any(carried(override_key(o), key) for key in carry)]
+    mode = [f"resistance={resistance}"] if resistance else []
     return [
         "policy=checkpoint", f"policy.path={shown_path(Path(checkpoint).resolve())}",
         f"asset={category}", f"asset.kind={kind}", "asset.split=train", "dr=randomized",
-        f"episodes={episodes}", f"env.seed={VALIDATION_SEED}", *cell,
+        f"episodes={episodes}", f"env.seed={VALIDATION_SEED}", *cell, *mode,
     ]  # fmt: skip
 
 
 def validation_success(
-    checkpoint: Path, groups: list[str], episodes: int, launch: list[str], label: str
+    checkpoint: Path,
+    groups: list[str],
+    episodes: int,
+    launch: list[str],
+    label: str,
+    resistance: str = "",
 ) -> dict[str, float]:
-    """Each group's success of `checkpoint`'s mean action over `episodes` validation episodes."""
+    """Each group's success of `checkpoint`'s mean action over `episodes` validation episodes,
+    in the launch's resistance mode or the one named."""
     rates = {}
     for group in groups:
-        cfg, policy = eval_setup(validation_overrides(checkpoint, group, episodes, launch))
+        overrides = validation_overrides(checkpoint, group, episodes, launch, resistance)
+        cfg, policy = eval_setup(overrides)
         rates[group] = float(evaluate(cfg, policy, progress=False).summary()["success"])
-        print(f"{label} on the validation draw: {group} {rates[group]:.2f} "
+        where = f" in {resistance}" if resistance else ""
+        print(f"{label} on the validation draw{where}: {group} {rates[group]:.2f} "
               f"({episodes} episodes)", flush=True)  # fmt: skip
     return rates
