@@ -1109,23 +1109,29 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     assert stages[5]["resumed_at"] == 0 and final.is_file()
 
 
+@pytest.mark.parametrize("modes", [[], ["high"]])
 def test_a_small_pipeline_judged_on_the_validation_draw_evaluates_each_teacher_once(
-    tmp_path, capsys
+    tmp_path, capsys, modes
 ):
     """`pipeline.judge=validation`: each kind teacher's groups evaluated on its mean action
-    (one episode each here), kept in stages.json, its own teachers trained for exactly the
-    groups it left below the mark; a resumed launch evaluates nothing again."""
+    (one episode each here), in the launch's mode and (`pipeline.judge_resistances`) in high,
+    kept in stages.json, its own teachers trained for exactly the groups it left below the mark
+    in some mode; a resumed launch evaluates nothing again."""
     launch = [*SMALL_PIPELINE, "pipeline.judge=validation", "pipeline.validation_episodes=1",
+              f"pipeline.judge_resistances={modes}",
               f"paths.library={tmp_path / 'lib'}"]  # fmt: skip
     run = tmp_path / "run"
     train_pipeline(load_config(launch), run, launch)
     stages = {s["name"]: s for s in json.loads((run / "stages.json").read_text())}
+    keys = ["validation", *(f"validation_{mode}" for mode in modes)]
     for kind in ("drawer", "door", "flap"):
-        judged = stages[f"teacher_{kind}"]["validation"]
-        assert list(judged) == [f"two_point_{kind}"] and judged[f"two_point_{kind}"] in (0.0, 1.0)
-        assert (f"teacher_two_point_{kind}" in stages) == (judged[f"two_point_{kind}"] < 1.0)
-    judged_lines = capsys.readouterr().out.count("on the validation draw")
-    assert judged_lines == sum("validation" in s for s in stages.values())
+        group = f"two_point_{kind}"
+        reads = [stages[f"teacher_{kind}"][key] for key in keys]
+        assert all(list(read) == [group] and read[group] in (0.0, 1.0) for read in reads)
+        assert (f"teacher_{group}" in stages) == (min(read[group] for read in reads) < 1.0)
+    out = capsys.readouterr().out
+    assert out.count("on the validation draw") == sum(k in s for s in stages.values() for k in keys)
+    assert out.count("on the validation draw in high") == 3 * len(modes)  # the kind teachers'
     resumed = load_config([*launch, f"train.resume={run}"])
     train_pipeline(resumed, tmp_path / "elsewhere", launch)
     assert "on the validation draw" not in capsys.readouterr().out
