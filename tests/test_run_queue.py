@@ -4,7 +4,9 @@ keeping a finished run, and a failed one kept nowhere."""
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import subprocess
 import sys
 import threading
 import time
@@ -274,6 +276,36 @@ def test_a_park_waits_for_a_driver_between_its_stages_and_no_later_stage_launche
     driver.join()
     parking.join()
     assert not (tmp_path / "work" / "later.log").exists() and q.drivers() == []
+
+
+def test_a_park_of_some_runs_neither_stops_nor_waits_for_a_driver_of_others(tmp_path, monkeypatch):
+    """Two drivers on one work folder (the aims' recipes launched side by side): a park request
+    naming only the other's runs leaves this driver's run training past its next checkpoints,
+    and a park of this one's runs stops it without waiting for the other driver."""
+    q = _queue(tmp_path, [])
+    q.parked = tmp_path / "parked"
+    monkeypatch.setattr(queue, "POLL_SECONDS", 0.1)
+    monkeypatch.setattr(RunQueue, "command", _training)
+    mine, theirs = QueuedRun("mine", (), 300), QueuedRun("theirs", (), 300)
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+    try:
+        drivers = tmp_path / "work" / queue.DRIVERS
+        drivers.mkdir(parents=True)
+        (drivers / str(other.pid)).write_text("theirs\n")  # another process driving `theirs`
+        driver = threading.Thread(target=lambda: q.run_all([mine], 1))
+        driver.start()
+        _when(lambda: q.last_checkpoint(mine) == 0)
+        assert q.drivers([mine]) == [os.getpid()] and q.drivers([theirs]) == [other.pid]
+        request = tmp_path / "work" / queue.PARK_REQUEST
+        request.write_text(f"{time.time()}\ntheirs\n")  # as a park of `theirs` asks
+        _when(lambda: q.last_checkpoint(mine) >= 100)  # two checkpoints on: not stopped
+        assert q.running(mine)
+        assert q.serve([mine], 1, park=True) == 0  # returns with the other driver still alive
+        driver.join()
+        assert 0 < q.last_checkpoint(mine) < 299 and other.poll() is None
+        assert sorted(p.name for p in q.parked.iterdir()) == ["mine"]
+    finally:
+        other.kill()
 
 
 def test_a_stage_run_named_pipeline_slash_stage_launches_into_a_new_folder(tmp_path, monkeypatch):

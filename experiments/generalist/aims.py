@@ -117,7 +117,7 @@ def main(argv: list[str]) -> int:
     runs_queue = queue()
     training = not (args.dry_run or args.park)
     # one driver across runs and evaluations, so a park made during an evaluation stops the rest
-    with runs_queue.driving() if training else nullcontext():
+    with runs_queue.driving(runs) if training else nullcontext():
         for run in runs:
             status = runs_queue.serve([run], 1, dry_run=args.dry_run, park=args.park)
             if status:

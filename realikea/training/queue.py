@@ -17,7 +17,8 @@ and kept with its last checkpoint. WORK is gone with the machine: `park` copies 
 run's resumable state to a folder git holds, and a later launch of it starts from there.
 
 At a session's end `serve(park=True)` stops the runs at their next checkpoints and parks them: it
-asks the live drivers (WORK/drivers/PID) through WORK/PARK, and each stops launching (in its
+asks the live drivers of those runs (WORK/drivers/PID names the runs a driver drives, or none: any
+run) through WORK/PARK, which names the runs, and each stops launching (in its
 later run_all calls too: a driver of several stages runs no later stage, and one holding
 `driving()` around its stages is waited for to the block's end), interrupts
 every run once it has written a checkpoint after the request (a run past its last checkpoint
@@ -46,8 +47,8 @@ from realikea.training.metrics import join_launches
 
 POLL_SECONDS = 10.0  # how often the driver checks its runs and records their wall time
 STOPPED_EARLY = "STOPPED_EARLY"  # in a run's folder: stopped by `stop_early`, finished as it is
-PARK_REQUEST = "PARK"  # in WORK: stop every run at its next checkpoint, then park it
-DRIVERS = "drivers"  # in WORK: one empty file per live driver, named by its pid
+PARK_REQUEST = "PARK"  # in WORK: its time, then the runs to stop at their next checkpoints
+DRIVERS = "drivers"  # in WORK: a file per live driver, named by its pid, naming its runs (or none)
 STAGES = "stages.json"  # in a staged run's folder: its finished stages (training/pipeline.py)
 
 
@@ -79,6 +80,8 @@ class RunQueue:
     _driving_since: float | None = field(default=None, init=False, repr=False)
     _driving_depth: int = field(default=0, init=False, repr=False)
     _park_seen: bool = field(default=False, init=False, repr=False)
+    # the runs it drives (None: any, a block that named none)
+    _driving_names: set[str] | None = field(default_factory=set, init=False, repr=False)
 
     def command(self, run: QueuedRun) -> list[str]:
         """The train.py command of `run`, continuing from its last checkpoint if it has one."""
@@ -234,20 +237,27 @@ class RunQueue:
             return 0
         return self.run_all(runs, jobs)
 
-    def drivers(self) -> list[int]:
-        """The pids of the live drivers of this queue."""
+    def drivers(self, runs: list[QueuedRun] | None = None) -> list[int]:
+        """The pids of the live drivers of this queue (of any of `runs`, when given: those
+        naming one of them or naming none)."""
         folder = self.work / DRIVERS
-        return [int(p.name) for p in folder.glob("*") if _alive(p.name)] if folder.is_dir() else []
+        found = [p for p in folder.glob("*") if _alive(p.name)] if folder.is_dir() else []
+        if runs is not None:
+            asked = {run.name for run in runs}
+            found = [p for p in found if _names(p.read_text()) & asked or not p.read_text()]
+        return [int(p.name) for p in found]
 
     def stop_at_checkpoints(self, runs: list[QueuedRun]) -> None:
-        """Stop every training run at its next checkpoint: through its driver if one is alive,
-        else here (a run whose driver died), recording the launch's wall time; returns once
-        no driver and no run is left training."""
+        """Stop every training run of `runs` at its next checkpoint: through its driver if one
+        is alive (a driver of other runs goes on), else here (a run whose driver died),
+        recording the launch's wall time; returns once none of them is left training."""
         request = self.work / PARK_REQUEST
-        if self.drivers():
-            atomic_write_text(request, f"{time.time()}\n")
-            print(f"asked drivers {self.drivers()} to stop runs at next checkpoints", flush=True)
-            while self.drivers():
+        if self.drivers(runs):
+            names = "".join(f"{run.name}\n" for run in runs)
+            atomic_write_text(request, f"{time.time()}\n{names}")
+            print(f"asked drivers {self.drivers(runs)} to stop runs at next checkpoints",
+                  flush=True)  # fmt: skip
+            while self.drivers(runs):
                 time.sleep(POLL_SECONDS)
         orphans = {run: self.progress(run) for run in runs if self.running(run)}
         for run in orphans:
@@ -276,13 +286,18 @@ class RunQueue:
         print(f"stopped {run.name} at iteration {self.last_checkpoint(run)}", flush=True)
 
     @contextmanager
-    def driving(self) -> Iterator[None]:
-        """This process is a live driver of the queue for the block (WORK/drivers/PID): a driver
-        that serves several stages with work between them (an evaluation) holds the block
-        around them all, so a park waits for the whole block and no later stage launches."""
+    def driving(self, runs: list[QueuedRun] | None = None) -> Iterator[None]:
+        """This process is a live driver of the queue's `runs` (None: any) for the block
+        (WORK/drivers/PID): a driver that serves several stages with work between them (an
+        evaluation) holds the block around them all, so a park of its runs waits for the whole
+        block and no later stage launches."""
         me = self.work / DRIVERS / str(os.getpid())
         me.parent.mkdir(parents=True, exist_ok=True)
-        me.touch()
+        if runs is None or self._driving_names is None:
+            self._driving_names = None
+        else:
+            self._driving_names |= {run.name for run in runs}
+        atomic_write_text(me, "".join(f"{name}\n" for name in sorted(self._driving_names or ())))
         if self._driving_since is None:
             self._driving_since = time.time()
         self._driving_depth += 1
@@ -292,18 +307,21 @@ class RunQueue:
             self._driving_depth -= 1
             if not self._driving_depth:
                 me.unlink(missing_ok=True)
+                self._driving_names = set()
 
     def run_all(self, runs: list[QueuedRun], jobs: int) -> int:
         """Launch the runs `jobs` at a time, keep each that finishes; 1 if any failed."""
-        with self.driving():
+        with self.driving(runs):
             return self._drive(runs, jobs)
 
     def _parking(self) -> bool:
-        """Whether a park request was made since this driver began driving (an older one is left
-        over from a parking process that died)."""
+        """Whether a park request of one of this driver's runs was made since it began driving
+        (an older one is left over from a parking process that died)."""
         request = self.work / PARK_REQUEST
         if request.is_file() and request.stat().st_mtime >= self._driving_since:
-            self._park_seen = True
+            asked = _names(request.read_text().partition("\n")[2])
+            mine = self._driving_names
+            self._park_seen |= mine is None or not asked or bool(asked & mine)
         return self._park_seen
 
     def _drive(self, runs: list[QueuedRun], jobs: int) -> int:
@@ -360,6 +378,11 @@ class RunQueue:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
         return 1 if failed else 0
+
+
+def _names(text: str) -> set[str]:
+    """The run names of a driver's file or a park request's lines."""
+    return {line for line in text.splitlines() if line}
 
 
 def _alive(pid: str) -> bool:
