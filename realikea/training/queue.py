@@ -244,7 +244,7 @@ class RunQueue:
         found = [p for p in folder.glob("*") if _alive(p.name)] if folder.is_dir() else []
         if runs is not None:
             asked = {run.name for run in runs}
-            found = [p for p in found if _names(p.read_text()) & asked or not p.read_text()]
+            found = [p for p in found if _drives(p, asked)]
         return [int(p.name) for p in found]
 
     def stop_at_checkpoints(self, runs: list[QueuedRun]) -> None:
@@ -378,6 +378,16 @@ class RunQueue:
                     failed += 1
                     print(f"FAILED {run.name} (exit {proc.returncode}): {self.work / run.name}.log")
         return 1 if failed else 0
+
+
+def _drives(driver: Path, asked: set[str]) -> bool:
+    """Whether the driver whose file this is drives one of the `asked` runs (its file names
+    one, or none: any run); a file gone meanwhile (its driver exited) drives none."""
+    try:
+        names = _names(driver.read_text())
+    except FileNotFoundError:
+        return False
+    return not names or bool(names & asked)
 
 
 def _names(text: str) -> set[str]:
