@@ -318,9 +318,12 @@ class RunQueue:
         """Whether a park request of one of this driver's runs was made since it began driving
         (an older one is left over from a parking process that died)."""
         request = self.work / PARK_REQUEST
-        if request.is_file() and request.stat().st_mtime >= self._driving_since:
-            asked = _names(request.read_text().partition("\n")[2])
-            mine = self._driving_names
+        try:  # a park of other runs removes its request when they are parked
+            made, text = request.stat().st_mtime, request.read_text()
+        except FileNotFoundError:
+            return self._park_seen
+        if made >= self._driving_since:
+            asked, mine = _names(text.partition("\n")[2]), self._driving_names
             self._park_seen |= mine is None or not asked or bool(asked & mine)
         return self._park_seen
 
