@@ -607,11 +607,11 @@ class Pipeline:
         it again)."""
         if judge == "training":
             return last_window(checkpoint.parent)
+        stages = self.records()
+        record = next((s for s in stages if s["name"] == stage.name), {})
         reads = []
         for mode in judged_modes(self.cfg):
             key = f"validation_{mode}" if mode else "validation"
-            stages = self.records()
-            record = next((s for s in stages if s["name"] == stage.name), {})
             judged = record.get(key, {})
             missing = [g for g in groups if g not in judged]
             if missing:
