@@ -733,11 +733,11 @@ def test_every_fine_tune_the_launch_may_train_is_checked_at_launch(monkeypatch, 
     assert tuned == {f"teacher_{group}_fine_tuned" for group in set(GROUPS) - named}
 
 
-def test_python_train_py_trains_round_twenty_fours_stages_and_the_design_cards_on_its_hull():
-    """The adopted default: `python train.py` (asset=all) composes round 24's pipeline, and each
-    of its stages is the one the screen's `pipeline=distilled_pairs_student_noise` launch
+def test_python_train_py_trains_round_twenty_fives_stages_and_the_design_cards_on_its_hull():
+    """The adopted default: `python train.py` (asset=all) composes round 25's pipeline, and each
+    of its stages is the one the screen's `pipeline=distilled_pairs_judged_high` launch
     trained; the design card's overrides reach every stage."""
-    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_student_noise"]
+    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_judged_high"]
     default, named = load_config(LAUNCH[1:]), load_config(screen)
     assert default.pipeline == named.pipeline
     scopes = [("drawer",), ("door",), ("flap",), ("door", "knob"), ("door", "finger_pull")]
@@ -1109,7 +1109,8 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     assert stages[5]["resumed_at"] == 0 and final.is_file()
 
 
-@pytest.mark.parametrize("modes", [[], ["high"]])
+# the launch's mode alone is the same path with fewer reads: slow, to keep the default suite short
+@pytest.mark.parametrize("modes", [pytest.param([], marks=pytest.mark.slow), ["high"]])
 def test_a_small_pipeline_judged_on_the_validation_draw_evaluates_each_teacher_once(
     tmp_path, capsys, modes
 ):
@@ -1137,6 +1138,7 @@ def test_a_small_pipeline_judged_on_the_validation_draw_evaluates_each_teacher_o
     assert "on the validation draw" not in capsys.readouterr().out
 
 
+@pytest.mark.slow  # seven stage processes; the interrupt test below also trains two side by side
 def test_paired_teachers_train_side_by_side_each_once_what_it_needs_is_done(tmp_path):
     """`pipeline=distilled_pairs`: the teachers train two at a time in their own processes
     (one env worker each), a teacher-rule teacher only after its kind's teacher, never more

@@ -66,10 +66,13 @@ GATED = (
     ("default_student_mean", "the superseded default of round 23 (`python train.py "
      "pipeline=distilled_pairs_student_mean`: CoACD, normal, `gated`)", AIM_SEEDS["default"][:2],
      STAGED),
+    ("default_student_noise", "the superseded default of round 24 (`python train.py "
+     "pipeline=distilled_pairs_student_noise`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
+     STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_student_noise`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["default"], STAGED),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_student_noise`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["hull_high"], STAGED),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
