@@ -32,6 +32,7 @@ def episode(
     mode: str | None = "other",
 ):
     row = {"outcome": outcome, "peak_opening": peak, "base": base, "termination": end}
+    row["hinge"] = base.split("_")[1] if base.startswith("door_") else ""
     return row | {
         "part": part,
         "failure_mode": None if outcome == "success" else mode,
@@ -62,6 +63,7 @@ def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses
     assert "| fail | no | stagnation | 1 |" in text
     assert "| door_right_w60_h80 | 1 | 1 | 0 |" in text
     assert "| door_left_w40_h80 | 0 | 1 | 1 |" in text
+    assert "| left | 0 | 1 | 1 |" in text and "| right | 1 | 1 | 0 |" in text  # hinge sides
     assert "| other | 2 |" in text and "| narrow_clearance | 1 |" in text  # the misses' modes
     assert "| fp_cup_96 | 1 | 1 | 0 |" in text
     assert "| fp_lip_36 | 0 | 1 | 1 |" in text
@@ -80,6 +82,38 @@ def test_the_validation_draw_replaces_the_cells_parts_and_seed(misses):
     assert misses.on_validation_draw(test_draw) == (
         "realikea eval policy.path=a/model_9.pt episodes=50 asset.split=train env.seed=2000"
     )
+
+
+def test_another_checkpoint_replaces_the_cells_policy_path(misses):
+    command = "realikea eval policy=checkpoint policy.path=a/model_9.pt episodes=50"
+    assert misses.with_checkpoint(command, "b/teacher_door/model_399.pt") == (
+        "realikea eval policy=checkpoint episodes=50 policy.path=b/teacher_door/model_399.pt"
+    )
+
+
+@pytest.mark.parametrize(
+    ("extra", "refusal"),
+    [
+        (["--checkpoint", "teacher_door/model_399.pt"], "validation draw only: add --validation"),
+        (["--validation", "--checkpoint", "absent/model_1.pt"], "absent/model_1.pt: no such file"),
+    ],
+)
+def test_a_checkpoint_off_the_validation_draw_or_missing_is_refused_before_any_rerun(
+    misses, tmp_path, monkeypatch, capsys, extra, refusal
+):
+    run = tmp_path / "s1"
+    run.mkdir()
+    (run / "cells.jsonl").write_text(json.dumps(cell(success=1.0)) + "\n")
+    (tmp_path / "teacher_door").mkdir()
+    (tmp_path / "teacher_door/model_399.pt").touch()
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(misses, "record", lambda *a: pytest.fail("a rerun started"))
+    args = [str(run), "--category", "finger_pull", "--kind", "door", "--resistance", "smooth"]
+    with pytest.raises(SystemExit) as exit_:
+        misses.main(args + extra)
+    assert exit_.value.code == 2
+    assert refusal in capsys.readouterr().err
+    assert not (run / "misses").exists()
 
 
 def test_a_rerun_graded_otherwise_than_the_committed_cell_is_refused(misses):
@@ -118,6 +152,7 @@ def test_a_committed_cell_is_rerun_recorded_and_sorted(misses, tmp_path):
     assert "0 of 2 episodes missed; **0 of them had reached the mark" in text
     assert "| drawer_w60_h20 | 0 | 0 | 2 |" in text
     assert "| tp_round_bar_128 | 0 | 0 | 2 |" in text
+    assert "hinge side" not in text  # a drawer has none
     kept = [json.loads(line) for line in (run / "misses/two_point_drawer_smooth.jsonl").open()]
     assert [(e["part"], e["base"], e["outcome"]) for e in kept] == [
         ("tp_round_bar_128", "drawer_w60_h20", "success")

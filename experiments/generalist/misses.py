@@ -1,23 +1,24 @@
 """Where a committed cell's missed episodes go wrong: the cell's evaluation rerun and recorded
 (`realikea eval ... record=`), each episode sorted by whether its front ever reached the success
 mark, how it ended and its failure mode, whether each episode let go of a grasp (its jaws
-opened after it first engaged the part), and every episode's grade by the base and the part it
-ran on.
+opened after it first engaged the part), and every episode's grade by its base's hinge side, the
+base and the part it ran on.
 
     python experiments/generalist/misses.py RUN --category finger_pull --kind door \
-        --resistance smooth [--validation]
+        --resistance smooth [--validation [--checkpoint CHECKPOINT]]
 
 RUN is a kept aim run (results/<recipe>/s<seed>/): the cell's command comes from RUN/cells.jsonl.
 The rerun must give the committed cell's fail / partial / success (the same draw and episodes),
 else nothing is written. `--validation` runs the same command on the validation draw instead
 (the train parts under env.seed=VALIDATION_SEED, as a checkpoint sweep does), for a diagnosis
-that may choose a recipe: the test draw must not. A run with no cells (a kept screen run,
-results/screen/<name>) is read on the validation draw only, with the cell's command an aim run's
-evaluation would give its last checkpoint. Prints the tables and writes
-RUN/misses/<category>_<kind>_<resistance>[_validation].md, and beside it each episode's
-part, base, grade and evidence (one JSON line each, `.jsonl`; what finger_pull_parts.py pools).
-An episode graded below success whose front once stood at or past the mark was opened and then
-let fall back: the grade is the opening at the episode's end.
+that may choose a recipe: the test draw must not. `--checkpoint` reads another checkpoint (one
+of the run's teachers) on that draw, its report named after the checkpoint's folder. A run with
+no cells (a kept screen run, results/screen/<name>) is read on the validation draw only, with
+the cell's command an aim run's evaluation would give its last checkpoint. Prints the tables
+and writes RUN/misses/<category>_<kind>_<resistance>[_validation[_<folder>]].md, and beside it
+each episode's part, base, hinge side, grade and evidence (one JSON line each, `.jsonl`; what
+finger_pull_parts.py pools). An episode graded below success whose front once stood at or past
+the mark was opened and then let fall back: the grade is the opening at the episode's end.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 
-from realikea.assets.catalog import BASE_KINDS, CATEGORIES
+from realikea.assets.catalog import BASE_KINDS, CATEGORIES, Catalog
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 from realikea.eval.library_grid import cell_overrides, read_cells
@@ -49,7 +50,7 @@ OPEN_ABOVE = StageParams().open_above  # normalized aperture above this: the rew
 STAGE_4 = "stage.3"  # the observation's one-hot of the reward stage: the engaged grasp
 # what RUN/misses/*.jsonl keeps of each episode
 EPISODE_KEYS = (
-    "part", "base", "outcome", "termination", "failure_mode", "peak_opening", "let_go"
+    "part", "base", "hinge", "outcome", "termination", "failure_mode", "peak_opening", "let_go"
 )  # fmt: skip
 
 
@@ -78,6 +79,12 @@ def on_validation_draw(command: str) -> str:
     drawn = ("asset.split=", "env.seed=")
     words = [w for w in shlex.split(command) if not w.startswith(drawn)]
     return shlex.join([*words, "asset.split=train", f"env.seed={VALIDATION_SEED}"])
+
+
+def with_checkpoint(command: str, checkpoint: Path) -> str:
+    """A cell's evaluation command reading another checkpoint (a teacher stage's)."""
+    words = [w for w in shlex.split(command) if not w.startswith("policy.path=")]
+    return shlex.join([*words, f"policy.path={checkpoint}"])
 
 
 def record(command: str, target: Path) -> None:
@@ -135,8 +142,8 @@ def grades_by(rows: list[dict], key: str) -> list[tuple[str, ...]]:
 
 def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -> str:
     """The misses of the episodes `command` ran, by (outcome, reached the mark, termination)
-    and by failure mode; how many episodes of each outcome let go of a grasp; then each base's
-    and each part's grades."""
+    and by failure mode; how many episodes of each outcome let go of a grasp; then the grades
+    of each hinge side (doors), each base and each part."""
     missed = [r for r in rows if r["outcome"] != "success"]
     lost = [r for r in missed if r["peak_opening"] >= mark]
     peaks = [r["peak_opening"] for r in rows if r["outcome"] == "success"]
@@ -148,6 +155,8 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
     modes = Counter(r["failure_mode"] for r in missed)
     by_outcome = {o: [r for r in rows if r["outcome"] == o] for o in OUTCOMES}
     released = [(o, str(len(e)), str(sum(r["let_go"] for r in e))) for o, e in by_outcome.items()]
+    hinge = ("hinge side", *OUTCOMES)
+    sides = [*table(hinge, "lrrr", grades_by(rows, "hinge")), ""] if cell["kind"] == "door" else []
     lines = [
         f"# {cell['category']} {cell['kind']}, {cell['resistance']}: where the misses go wrong",
         "",
@@ -177,6 +186,7 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
         "",
         *table(("outcome", "episodes", "let go of a grasp"), "lrr", released),
         "",
+        *sides,
         *table(("base", *OUTCOMES), "lrrr", grades_by(rows, "base")),
         "",
         *table(("part", *OUTCOMES), "lrrr", grades_by(rows, "part")),
@@ -194,9 +204,19 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--kind", choices=list(BASE_KINDS), required=True)
     parser.add_argument("--resistance", choices=list(MODES), required=True)
     parser.add_argument("--validation", action="store_true", help="on the validation draw")
+    parser.add_argument(
+        "--checkpoint",
+        type=Path,
+        help="read this checkpoint (e.g. one of the run's teachers) instead of the run's own; "
+        "on the validation draw only",
+    )
     args = parser.parse_args(argv)
     where = (args.run, args.kind, args.category, args.resistance)
     try:
+        if args.checkpoint and not args.validation:
+            raise RealIkeaError("--checkpoint reads the validation draw only: add --validation")
+        if args.checkpoint and not args.checkpoint.is_file():
+            raise RealIkeaError(f"--checkpoint {shown_path(args.checkpoint)}: no such file")
         if (args.run / "cells.jsonl").is_file():
             cell = committed_cell(*where)
         elif args.validation:
@@ -211,9 +231,13 @@ def main(argv: list[str]) -> int:
     joint = BASE_KINDS[args.kind]
     mark = float(load_config().task.outcome.success[joint])
     command = on_validation_draw(cell["command"]) if args.validation else cell["command"]
+    if args.checkpoint:
+        command = with_checkpoint(command, args.checkpoint.resolve())
     with tempfile.TemporaryDirectory() as tmp:
         record(command, Path(tmp) / "episodes")
         rows = episodes(Path(tmp) / "episodes")
+    hinges = {b.id: b.hinge for b in Catalog.load().bases.values()}
+    rows = [r | {"hinge": hinges[r["base"]]} for r in rows]
     if not args.validation:
         try:
             check_rates(rows, cell)
@@ -222,6 +246,7 @@ def main(argv: list[str]) -> int:
             return 1
     text = report(rows, cell, mark, "m" if joint == "slide" else "rad", command)
     draw = "_validation" if args.validation else ""
+    draw += f"_{args.checkpoint.parent.name}" if args.checkpoint else ""
     out = args.run / "misses" / f"{args.category}_{args.kind}_{args.resistance}{draw}.md"
     out.parent.mkdir(exist_ok=True)
     kept = [{k: r[k] for k in EPISODE_KEYS} for r in rows]
