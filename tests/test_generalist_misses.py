@@ -64,6 +64,7 @@ def test_a_miss_that_once_stood_past_the_mark_is_counted_as_let_fall_back(misses
     assert "| door_right_w60_h80 | 1 | 1 | 0 |" in text
     assert "| door_left_w40_h80 | 0 | 1 | 1 |" in text
     assert "| left | 0 | 1 | 1 |" in text and "| right | 1 | 1 | 0 |" in text  # hinge sides
+    assert "| fp_lip_36 | 1 / 2 | – |" in text and "| fp_cup_96 | – | 0 / 2 |" in text
     assert "| other | 2 |" in text and "| narrow_clearance | 1 |" in text  # the misses' modes
     assert "| fp_cup_96 | 1 | 1 | 0 |" in text
     assert "| fp_lip_36 | 0 | 1 | 1 |" in text

@@ -233,9 +233,10 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
         (23, "distilled_pairs_student_mean", 400),
         (24, "distilled_pairs_student_noise", 400),
         (25, "distilled_pairs_judged_high", 400),
+        (26, "distilled_pairs_small_parts", 400),
     ],
 )
-def test_rounds_nine_to_twenty_five_are_staged_launches_of_their_pipelines(
+def test_rounds_nine_to_twenty_six_are_staged_launches_of_their_pipelines(
     screen, round_, candidate, student
 ):
     assert screen.ROUNDS[round_] == (candidate,)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from realikea.assets.library import group_turns
+from realikea.assets.library import group_turns, training_draw
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
 
@@ -32,3 +32,21 @@ def test_a_label_weighs_the_product_of_its_values():
 def test_a_weight_on_no_group_or_not_a_whole_number_is_refused_by_name(weights):
     with pytest.raises(RealIkeaError, match="asset.group_weights"):
         group_turns(LABELS, weights)
+
+
+def test_a_hinge_side_keeps_only_the_doors_hinged_on_it():
+    cfg = load_config(["asset=two_point", "asset.kind=door", "asset.hinge=left"])
+    bases = {c.base.id for group in training_draw(cfg, 16).groups.values() for c in group}
+    assert bases == {"door_left_w40_h80", "door_left_w60_h80"}
+
+
+@pytest.mark.parametrize(
+    ("overrides", "says"),
+    [
+        (["asset.kind=door", "asset.hinge=up"], "asset.hinge='up': use null, left or right"),
+        (["asset.kind=drawer", "asset.hinge=left"], "kind=drawer hinge=left"),  # drawers: none
+    ],
+)
+def test_a_hinge_side_that_is_none_or_keeps_no_door_is_refused_by_name(overrides, says):
+    with pytest.raises(RealIkeaError, match=says):
+        training_draw(load_config(["asset=two_point", *overrides]), 16)

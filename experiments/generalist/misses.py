@@ -140,10 +140,25 @@ def grades_by(rows: list[dict], key: str) -> list[tuple[str, ...]]:
     return [(value, *(str(c[o]) for o in OUTCOMES)) for value, c in sorted(counts.items())]
 
 
+def opened_by_side(rows: list[dict]) -> list[tuple[str, str, str]]:
+    """Table rows: each part's successes of its episodes on left- and on right-hinged doors."""
+    counts: dict[tuple[str, str], list[int]] = {}
+    for r in rows:
+        tally = counts.setdefault((r["part"], r["hinge"]), [0, 0])
+        tally[0] += r["outcome"] == "success"
+        tally[1] += 1
+
+    def opened(part: str, side: str) -> str:
+        won, ran = counts.get((part, side), (0, 0))
+        return f"{won} / {ran}" if ran else "–"
+
+    return [(p, opened(p, "left"), opened(p, "right")) for p in sorted({r["part"] for r in rows})]
+
+
 def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -> str:
     """The misses of the episodes `command` ran, by (outcome, reached the mark, termination)
     and by failure mode; how many episodes of each outcome let go of a grasp; then the grades
-    of each hinge side (doors), each base and each part."""
+    of each hinge side and each part on each side (doors), each base and each part."""
     missed = [r for r in rows if r["outcome"] != "success"]
     lost = [r for r in missed if r["peak_opening"] >= mark]
     peaks = [r["peak_opening"] for r in rows if r["outcome"] == "success"]
@@ -155,8 +170,13 @@ def report(rows: list[dict], cell: dict, mark: float, unit: str, command: str) -
     modes = Counter(r["failure_mode"] for r in missed)
     by_outcome = {o: [r for r in rows if r["outcome"] == o] for o in OUTCOMES}
     released = [(o, str(len(e)), str(sum(r["let_go"] for r in e))) for o, e in by_outcome.items()]
-    hinge = ("hinge side", *OUTCOMES)
-    sides = [*table(hinge, "lrrr", grades_by(rows, "hinge")), ""] if cell["kind"] == "door" else []
+    sides = []
+    if cell["kind"] == "door":
+        sides = [*table(("hinge side", *OUTCOMES), "lrrr", grades_by(rows, "hinge")), ""]
+        sides += [
+            *table(("part", "left: opened", "right: opened"), "lrr", opened_by_side(rows)),
+            "",
+        ]
     lines = [
         f"# {cell['category']} {cell['kind']}, {cell['resistance']}: where the misses go wrong",
         "",

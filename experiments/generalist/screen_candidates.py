@@ -105,6 +105,9 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     "distilled_pairs_student_noise": ("pipeline=distilled_pairs_student_noise",),
     # and every teacher also read in high resistance there, each rule reading its lower rate
     "distilled_pairs_judged_high": ("pipeline=distilled_pairs_judged_high",),
+    # and every two-point teacher also read on each family's smallest train part (a door on each
+    # hinge side apart), a fine-tune that misses followed by a teacher of the group's own
+    "distilled_pairs_small_parts": ("pipeline=distilled_pairs_small_parts",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -132,5 +135,6 @@ ROUNDS = {
     23: ("distilled_pairs_student_mean",),
     24: ("distilled_pairs_student_noise",),
     25: ("distilled_pairs_judged_high",),
+    26: ("distilled_pairs_small_parts",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -29,6 +29,7 @@ def read_index(library: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(f))
 
 
+HINGE_SIDES = (None, "left", "right")  # asset.hinge: any base, or only doors hinged on a side
 # what `asset.stratify` may group configurations by
 STRATA = {"category": lambda c: c.part.category, "kind": lambda c: c.base.kind}
 
@@ -132,11 +133,16 @@ def training_draw(cfg, n: int, seed: int = 0) -> TrainingDraw:
         )
     )
     out = withheld(catalog, asset, candidates)
+    hinge = asset.get("hinge")
+    if hinge not in HINGE_SIDES:
+        raise RealIkeaError(f"asset.hinge={hinge!r}: use null, left or right (a door's hinge side)")
+    candidates = [c for c in candidates if hinge is None or c.base.hinge == hinge]
     candidates = with_synthetic(asset, [c for c in candidates if c.part.id not in out])
     if not candidates:
         raise RealIkeaError(
             f"no configuration matches asset.category={asset.category} part={asset.part} "
-            f"base={asset.base} kind={asset.get('kind')} split={asset.get('split', 'all')}"
+            f"base={asset.base} kind={asset.get('kind')} hinge={hinge} "
+            f"split={asset.get('split', 'all')}"
         )
     keys = list(asset.get("stratify") or ())
     unknown = [k for k in keys if k not in STRATA]

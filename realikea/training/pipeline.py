@@ -65,7 +65,11 @@ from realikea.sim.resistance import MODES as RESISTANCE_MODES
 from realikea.training.metrics import last_window
 from realikea.training.queue import STAGES
 from realikea.training.train import check_inputs, env_groups, train
-from realikea.training.validation import validation_success
+from realikea.training.validation import (
+    SMALL_PART_SIDES,
+    small_part_reads,
+    validation_success,
+)
 
 # the pipeline configs, realikea/conf/pipeline/<name>.yaml
 PIPELINES = tuple(sorted(path.stem for path in (CONF_DIR / "pipeline").glob("*.yaml")))
@@ -153,7 +157,9 @@ def check_pipeline(cfg: DictConfig) -> None:
         raise RealIkeaError(
             f"pipeline.learned_retrain_below={mark}: use null (never) or a rate in [0, 1]"
         )
-    for key in ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain"):
+    bools = ("retrain_own", "alone_all_workers", "best_teacher", "keep_better_retrain",
+             "own_after_fine_tune")  # fmt: skip
+    for key in bools:
         if not isinstance(pipeline[key], bool):
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
@@ -176,6 +182,24 @@ def check_pipeline(cfg: DictConfig) -> None:
             f"pipeline.judge_resistances={list(modes)} with pipeline.judge={pipeline.judge}: "
             "the modes are read on the validation draw; set pipeline.judge=validation or "
             "judge_resistances=[]"
+        )
+    small = pipeline.judge_small_parts
+    if not OmegaConf.is_list(small) or any(str(c) not in CATEGORIES for c in small):
+        raise RealIkeaError(
+            f"pipeline.judge_small_parts={small}: use a list of categories of "
+            f"{', '.join(CATEGORIES)}"
+        )
+    if small and pipeline.judge != "validation":
+        raise RealIkeaError(
+            f"pipeline.judge_small_parts={list(small)} with pipeline.judge={pipeline.judge}: "
+            "the small parts are read on the validation draw; set pipeline.judge=validation or "
+            "judge_small_parts=[]"
+        )
+    pinned = [k for k in ("part", "base", "hinge") if OmegaConf.select(cfg, f"asset.{k}")]
+    if small and pinned:
+        raise RealIkeaError(
+            f"pipeline.judge_small_parts={list(small)} with asset.{pinned[0]} pinned: the "
+            "small-part reads draw each family's smallest part on every base of a side"
         )
     episodes = pipeline.validation_episodes
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
@@ -412,6 +436,8 @@ class Pipeline:
         self.at_once = int(cfg.pipeline.stages_at_once)
         # with pipeline.best_teacher: each group's teacher so far, as (its success, own)
         self.best: dict[str, tuple[float, bool]] = {}
+        # groups given a teacher of their own once their fine-tune missed (own_after_fine_tune)
+        self.after_fine_tune: set[str] = set()
 
     def folder(self, stage: Stage) -> Path:
         return self.root if stage.name == STUDENT else self.root / stage.name
@@ -557,18 +583,23 @@ class Pipeline:
             rule_mark = None if is_named else pipeline.learned_retrain_below
             # read only where a choice needs it: a fine-tune, a teacher that may retrain or be
             # retrained, or `best_teacher`; else a group's teacher teaches whatever it reads
+            after = group in self.after_fine_tune  # its own teacher once its fine-tune missed
             read = (stage.name.endswith(FINE_TUNED) or is_named or rule_mark is not None
-                    or pipeline.best_teacher) and group in groups  # fmt: skip
+                    or pipeline.best_teacher or after) and group in groups  # fmt: skip
             success = self.judged(stage, checkpoint, [group] if read else [], judge)
             if stage.name.endswith(FINE_TUNED):
                 self.offer(teachers, group, checkpoint, success, own=True, only_if_better=True)
-                return []
+                below = self.best[group][0] < float(pipeline.fine_tune.below)
+                if not (pipeline.own_after_fine_tune and below):
+                    return []
+                self.after_fine_tune.add(group)
+                return [teacher_stage(self.cfg, stage.kind, stage.category)]
             retrain = teacher_stage(self.cfg, stage.kind, stage.category, retrain=True)
             is_retrain = stage.name == retrain.name
-            better = is_retrain and pipeline.keep_better_retrain
+            better = (is_retrain and pipeline.keep_better_retrain) or after
             self.offer(teachers, group, checkpoint, success, own=True, only_if_better=better)
             mark = retrain_mark(self.cfg, group) if is_named and pipeline.retrain_own else rule_mark
-            if is_retrain or mark is None:
+            if is_retrain or after or mark is None:
                 return []
             return [retrain] if self.missed(success, group, mark) else []
         # its groups of the draw a rule reads it on: a named group's only to pick the better
@@ -601,30 +632,56 @@ class Pipeline:
     ) -> dict[str, float | None]:
         """Each group's success of the finished teacher (`judge`): its training success over its
         last full window, or with `validation` that of its mean action on the validation draw,
-        judged on `groups`, the lowest over the launch's resistance mode and each of
-        `pipeline.judge_resistances` (`validation_success`; kept in RUN/stages.json under the
-        stage's record, `validation` and `validation_<mode>`, so a resumed launch does not judge
-        it again)."""
+        judged on `groups`, the lowest over the launch's resistance mode, each of
+        `pipeline.judge_resistances` and, for the groups of `pipeline.judge_small_parts`, their
+        small-part reads (`validation_success`; kept in RUN/stages.json under the stage's
+        record, `validation`, `validation_<mode>` and `validation_<small-part read>`, so a
+        resumed launch does not judge it again)."""
         if judge == "training":
             return last_window(checkpoint.parent)
         stages = self.records()
         record = next((s for s in stages if s["name"] == stage.name), {})
+        small = {str(c) for c in self.cfg.pipeline.judge_small_parts}
+        # each read: its key in the record, the groups it applies to, how it is read
+        plan = [(f"validation_{m}" if m else "validation", set(GROUPS), (m,), {})
+                for m in judged_modes(self.cfg)]  # fmt: skip
+        plan += [
+            (f"validation_{read}", {g for g in GROUPS if kind_and_category(g)[1] in small
+                                    and read in small_part_reads(g)}, (), {"small_parts": read})
+            for read in SMALL_PART_SIDES
+        ]  # fmt: skip
         reads = []
-        for mode in judged_modes(self.cfg):
-            key = f"validation_{mode}" if mode else "validation"
+        for key, applies, mode, small_parts in plan:
             judged = record.get(key, {})
-            missing = [g for g in groups if g not in judged]
+            missing = [g for g in groups if g in applies and g not in judged]
             if missing:
                 episodes = int(self.cfg.pipeline.validation_episodes)
                 judged |= validation_success(
-                    checkpoint, missing, episodes, self.launch, stage.name, mode
+                    checkpoint, missing, episodes, self.launch, stage.name, *mode, **small_parts
                 )
                 if record:
                     record[key] = judged
                     self.write_records(stages)
-            reads.append(judged)
-        return {g: min(r[g] for r in reads) if all(g in r for r in reads) else None
-                for g in GROUPS}  # fmt: skip
+            reads.append((applies, judged))
+        rates = {g: [judged.get(g) for applies, judged in reads if g in applies] for g in GROUPS}
+        return {g: None if None in r else min(r) for g, r in rates.items()}  # fmt: skip
+        sliced = {}
+        for read in SMALL_PART_SIDES:
+            key = f"validation_{read}"
+            judged = record.get(key, {})
+            missing = [g for g in groups if read in applies[g] and g not in judged]
+            if missing:
+                episodes = int(self.cfg.pipeline.validation_episodes)
+                judged |= validation_success(
+                    checkpoint, missing, episodes, self.launch, stage.name, small_parts=read
+                )
+                if record:
+                    record[key] = judged
+                    self.write_records(stages)
+            sliced[read] = judged
+        reads += [{g: sliced[r][g] for g in GROUPS for r in applies[g] if g in sliced[r]}]
+        reads = reads[:-1] + [{}]  # placeholder, replaced below
+        return {g: self.lowest(g, reads[:-1], [sliced[r] for r in applies[g]]) for g in GROUPS}
 
     def records(self) -> list[dict]:
         """The finished stages' records in RUN/stages.json (none yet: empty)."""
