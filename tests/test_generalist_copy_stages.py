@@ -47,3 +47,26 @@ def test_a_missing_source_or_stage_is_refused_before_anything_is_copied(
     kept_run(tmp_path / "r15", {"teacher_door": 0.9})
     assert copy_stages.main(["work", "r15", source]) == 2
     assert message in capsys.readouterr().err and not (tmp_path / "work").exists()
+
+
+def test_a_later_launchs_records_of_the_copied_stages_win(copy_stages, tmp_path):
+    first = kept_run(tmp_path / "r24", {"teacher_door": 0.9, "teacher_flap": 0.5})
+    later = kept_run(tmp_path / "r25", {"teacher_two_point_flap_fine_tuned": 1.0})
+    records = json.loads((later / "stages.json").read_text())
+    records.append({"name": "teacher_door", "success": {"g": 0.9}, "validation_high": 0.8})
+    (later / "stages.json").write_text(json.dumps(records))
+    work = tmp_path / "work"
+    assert copy_stages.main([str(work), str(first), str(later), "--records-from", str(later)]) == 0
+    merged = {s["name"]: s for s in json.loads((work / "stages.json").read_text())}
+    assert merged["teacher_door"]["validation_high"] == 0.8  # read again by the later launch
+    assert merged["teacher_flap"]["success"] == {"g": 0.5}  # the later launch has no record
+    assert sorted(merged) == ["teacher_door", "teacher_flap", "teacher_two_point_flap_fine_tuned"]
+
+
+def test_records_from_a_run_without_them_are_refused_before_anything_is_copied(
+    copy_stages, tmp_path, capsys
+):
+    first = kept_run(tmp_path / "r24", {"teacher_door": 0.9})
+    work = tmp_path / "work"
+    assert copy_stages.main([str(work), str(first), "--records-from", str(tmp_path)]) == 2
+    assert "no stages.json there" in capsys.readouterr().err and not work.exists()

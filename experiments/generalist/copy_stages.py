@@ -7,6 +7,9 @@ folder's, a later source's record of a stage replacing an earlier one's), never 
         RESULTS/screen/distilled_pairs_fine_tune_s21:teacher_two_point_door_fine_tuned
 
 A source given as RUN copies each of its stage folders (teacher_*); RUN:STAGE,STAGE only those.
+`--records-from KEPT` then takes each copied stage's record from KEPT's stages.json where it has
+one: a later launch that used the copied stages (and kept only its new folders) read them again,
+e.g. in another resistance mode, and a launch from the copies need not read them once more.
 Every source and named stage is checked before anything is copied. Exit 0, or 2 on bad input.
 """
 
@@ -52,9 +55,12 @@ def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("work", type=Path, help="the pipeline's work folder (made if absent)")
     parser.add_argument("sources", nargs="+", help="RUN or RUN:STAGE,STAGE")
+    parser.add_argument("--records-from", type=Path, help="a kept run whose records win")
     args = parser.parse_args(argv)
     try:
         plan = planned(args.sources)
+        if args.records_from and not (args.records_from / STAGES).is_file():
+            raise ValueError(f"--records-from {args.records_from}: no {STAGES} there")
     except ValueError as err:
         print(f"copy_stages.py: {err}", file=sys.stderr)
         return 2
@@ -68,6 +74,9 @@ def main(argv: list[str]) -> int:
             if name in kept:
                 merged[name] = kept[name]
             print(f"{folder / name} -> {args.work / name}")
+    later = records(args.records_from) if args.records_from else {}
+    copied = {name for _, names in plan for name in names}
+    merged |= {name: later[name] for name in copied if name in later}
     atomic_write_text(args.work / STAGES, json.dumps(list(merged.values()), indent=1) + "\n")
     return 0
 
