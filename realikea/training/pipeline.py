@@ -664,24 +664,7 @@ class Pipeline:
                     self.write_records(stages)
             reads.append((applies, judged))
         rates = {g: [judged.get(g) for applies, judged in reads if g in applies] for g in GROUPS}
-        return {g: None if None in r else min(r) for g, r in rates.items()}  # fmt: skip
-        sliced = {}
-        for read in SMALL_PART_SIDES:
-            key = f"validation_{read}"
-            judged = record.get(key, {})
-            missing = [g for g in groups if read in applies[g] and g not in judged]
-            if missing:
-                episodes = int(self.cfg.pipeline.validation_episodes)
-                judged |= validation_success(
-                    checkpoint, missing, episodes, self.launch, stage.name, small_parts=read
-                )
-                if record:
-                    record[key] = judged
-                    self.write_records(stages)
-            sliced[read] = judged
-        reads += [{g: sliced[r][g] for g in GROUPS for r in applies[g] if g in sliced[r]}]
-        reads = reads[:-1] + [{}]  # placeholder, replaced below
-        return {g: self.lowest(g, reads[:-1], [sliced[r] for r in applies[g]]) for g in GROUPS}
+        return {g: None if None in r else min(r) for g, r in rates.items()}
 
     def records(self) -> list[dict]:
         """The finished stages' records in RUN/stages.json (none yet: empty)."""
