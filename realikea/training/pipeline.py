@@ -164,6 +164,14 @@ def check_pipeline(cfg: DictConfig) -> None:
             raise RealIkeaError(f"pipeline.{key}={pipeline[key]}: use true or false")
     if int(pipeline.stages_at_once) < 1:
         raise RealIkeaError(f"pipeline.stages_at_once={pipeline.stages_at_once}: use 1 or more")
+    check_judging(cfg)
+
+
+def check_judging(cfg: DictConfig) -> None:
+    """Refuse a way of reading teachers that is unknown or out of range (`pipeline.judge`,
+    `learned_judge`, `judge_resistances`, `judge_small_parts`, `validation_episodes`), or small-part
+    reads under a draw pinned to a part, base or hinge side, naming the key."""
+    pipeline = cfg.pipeline
     if pipeline.judge not in JUDGES:
         raise RealIkeaError(f"pipeline.judge={pipeline.judge}: use one of {', '.join(JUDGES)}")
     if pipeline.learned_judge not in (None, *JUDGES):
