@@ -22,15 +22,14 @@ from realikea.eval.library_grid import cell_count, read_cells
 
 def mean_difference(cells: dict, other: dict) -> tuple[float, int]:
     """The mean of (success A − success B) over the cells both grids have, and their number."""
+
+    def rate(record: dict) -> float:
+        k, n = cell_count(record)
+        return k / n
+
     shared = sorted(set(cells) & set(other))
-    if not shared:
-        return 0.0, 0
-    rates = [
-        (cell_count(cells[c])[0] / cell_count(cells[c])[1])
-        - (cell_count(other[c])[0] / cell_count(other[c])[1])
-        for c in shared
-    ]
-    return sum(rates) / len(rates), len(shared)
+    differences = [rate(cells[c]) - rate(other[c]) for c in shared]
+    return (sum(differences) / len(shared) if shared else 0.0), len(shared)
 
 
 def main(argv: list[str]) -> int:

@@ -21,9 +21,7 @@ from pathlib import Path
 from realikea.errors import RealIkeaError
 from realikea.policies.checkpoint import load_saved
 
-STAGE_PREFIX = "teacher_"
-
-
+STAGE_PREFIX = "teacher_"  # a pipeline's stage folders (copy_stages.py's)
 NORMALISER = "obs_normalizer."  # the actor's observation normaliser (its mean, var, count)
 
 

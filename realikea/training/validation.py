@@ -51,16 +51,14 @@ def small_part_reads(group: str) -> list[str]:
     return ["small_left", "small_right"] if kind == "door" else ["small"]
 
 
-def smallest_train_parts(category: str) -> list[str]:
-    """Each family's smallest train part of `category` (by its main dimension,
+def smallest_of_families(parts: list) -> set[str]:
+    """The id of each family's smallest part among `parts` (by its main dimension,
     `realikea.assets.split.main_dimension`)."""
-    catalog = Catalog.load()
     smallest: dict[str, tuple[float, str]] = {}
-    for part in catalog.parts_of_split(catalog.parts_in(category), "train"):
-        if part.family != IMPORTED:
-            size = (main_dimension(part), part.id)
-            smallest[part.family] = min(smallest.get(part.family, size), size)
-    return sorted(part_id for _, part_id in smallest.values())
+    for part in parts:
+        size = (main_dimension(part), part.id)
+        smallest[part.family] = min(smallest.get(part.family, size), size)
+    return {part_id for _, part_id in smallest.values()}
 
 
 def small_part_overrides(group: str, read: str) -> list[str]:
@@ -69,11 +67,13 @@ def small_part_overrides(group: str, read: str) -> list[str]:
     hinge side. The held-out split keeps back parts smaller than every train part of their
     family (realikea/catalog/split.csv); these are the nearest the train parts come to them."""
     _, category = kind_and_category(group)
-    catalog, keep = Catalog.load(), set(smallest_train_parts(category))
-    others = [p.id for p in catalog.parts_of_split(catalog.parts_in(category), "train")
-              if p.id not in keep and p.family != IMPORTED]  # fmt: skip
+    catalog = Catalog.load()
+    train = [p for p in catalog.parts_of_split(catalog.parts_in(category), "train")
+             if p.family != IMPORTED]  # fmt: skip
+    keep = smallest_of_families(train)
+    others = sorted(p.id for p in train if p.id not in keep)
     side = SMALL_PART_SIDES[read]
-    return [f"asset.withhold=[{','.join(sorted(others))}]", *([f"asset.hinge={side}"] * bool(side))]
+    return [f"asset.withhold=[{','.join(others)}]", *([f"asset.hinge={side}"] * bool(side))]
 
 
 def carried(key: str, prefix: str) -> bool:
