@@ -846,11 +846,12 @@ def test_every_fine_tune_the_launch_may_train_is_checked_at_launch(monkeypatch, 
     assert tuned == {f"teacher_{group}_fine_tuned" for group in set(GROUPS) - named}
 
 
-def test_python_train_py_trains_round_twenty_fives_stages_and_the_design_cards_on_its_hull():
-    """The adopted default: `python train.py` (asset=all) composes round 25's pipeline, and each
-    of its stages is the one the screen's `pipeline=distilled_pairs_judged_high` launch
-    trained; the design card's overrides reach every stage."""
-    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_judged_high"]
+def test_python_train_py_trains_round_twenty_sixs_stages_and_the_design_cards_on_its_hull():
+    """The adopted default: `python train.py` (asset=all) composes round 26's pipeline, and each
+    of its stages is the one the screen's `pipeline=distilled_pairs_small_parts` launch
+    trained (a two-point group's own teacher too); the design card's overrides reach every
+    stage."""
+    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_small_parts"]
     default, named = load_config(LAUNCH[1:]), load_config(screen)
     assert default.pipeline == named.pipeline
     scopes = [("drawer",), ("door",), ("flap",), ("door", "knob"), ("door", "finger_pull")]
@@ -858,6 +859,7 @@ def test_python_train_py_trains_round_twenty_fives_stages_and_the_design_cards_o
     stages += [teacher_stage(default, "door", "finger_pull", True)]
     stages += [fine_tune_stage(default, "drawer", "two_point")]
     stages += [teacher_stage(default, "flap", "finger_pull", True)]  # a teacher-rule retrain
+    stages += [teacher_stage(default, "door", "two_point")]  # own, after a missed fine-tune
     for stage in stages:
         assert without_pipeline(stage_config(default, LAUNCH[1:], stage)) == without_pipeline(
             stage_config(named, screen, stage)

@@ -41,7 +41,8 @@ WORK = WORKSPACE / "outputs/generalist_aims"
 # python train.py's defaults (a pipeline of teachers and one student: realikea/conf/asset/all.yaml);
 # the superseded defaults' runs of these seeds are in results/<recipe>_group_ppo/ (round 1's),
 # results/default_student_96/ (round 18's), results/default_fine_tune/ (round 19's),
-# results/default_validated_marks/ (round 21's) and results/default_student_mean/ (round 23's)
+# results/default_validated_marks/ (round 21's), results/default_student_mean/ (round 23's),
+# results/default_student_noise/ (round 24's) and results/<recipe>_judged_high/ (round 25's)
 RECIPES = {"default": (), "hull_high": ("collision=hull", "resistance=high")}
 SEEDS = {"default": (200, 201, 202), "hull_high": (210, 211, 212)}
 # evaluations of a kept run: results folder suffix -> (resistance modes, extra eval overrides)

@@ -69,10 +69,16 @@ GATED = (
     ("default_student_noise", "the superseded default of round 24 (`python train.py "
      "pipeline=distilled_pairs_student_noise`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
      STAGED),
+    ("default_judged_high", "the superseded default of round 25 (`python train.py "
+     "pipeline=distilled_pairs_judged_high`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
+     STAGED),
+    ("hull_high_judged_high", "the design card's `python train.py collision=hull "
+     "resistance=high` on the superseded default of round 25 "
+     "(`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["hull_high"][:1], STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["default"], STAGED),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["hull_high"], STAGED),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
