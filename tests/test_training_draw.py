@@ -28,7 +28,15 @@ def test_a_label_weighs_the_product_of_its_values():
     assert turns.count(("two_point", "flap")) == 1
 
 
-@pytest.mark.parametrize("weights", [{"doors": 2}, {"door": 1.5}, {"door": 0}, {"door": "2"}])
+def test_a_group_named_whole_is_weighted_alone_and_with_its_values():
+    turns = group_turns(LABELS, {"door": 2, "two_point_door": 2})
+    assert turns.count(("two_point", "door")) == 4 and turns.count(("knob", "door")) == 2
+    assert turns.count(("two_point", "flap")) == 1
+
+
+@pytest.mark.parametrize(
+    "weights", [{"doors": 2}, {"two_point_drawer": 2}, {"door": 1.5}, {"door": 0}, {"door": "2"}]
+)
 def test_a_weight_on_no_group_or_not_a_whole_number_is_refused_by_name(weights):
     with pytest.raises(RealIkeaError, match="asset.group_weights"):
         group_turns(LABELS, weights)

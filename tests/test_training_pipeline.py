@@ -29,6 +29,7 @@ from realikea.training.pipeline import (
     check_launch,
     check_pipeline,
     check_stages,
+    final_iterations,
     fine_tune_stage,
     longest_first,
     stage_config,
@@ -680,6 +681,82 @@ def test_a_fine_tune_at_the_mark_on_its_small_parts_needs_no_teacher_of_its_own(
     assert teachers == {"two_point_door": tuned}
 
 
+def test_round_twenty_sevens_stages_are_round_twenty_sixs_and_the_student_trained_on():
+    """pipeline=distilled_pairs_student_small_parts: round 26's teachers and student (so a seed's
+    can be copied), then 200 iterations more of the student, the launch's 600 in all."""
+    more, before = (
+        OmegaConf.to_container(load_config([*LAUNCH, f"pipeline={name}"]))
+        for name in ("distilled_pairs_student_small_parts", "distilled_pairs_small_parts")
+    )
+    assert more["pipeline"].pop("student_more") == {"iterations": 200, "below": 0.9, "weight": 2}
+    assert before["pipeline"].pop("student_more") is None
+    assert more["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert more == before
+    cfg = load_config([*LAUNCH, "pipeline=distilled_pairs_student_small_parts"])
+    assert final_iterations(cfg) == 600
+    assert final_iterations(load_config([*LAUNCH, "pipeline=distilled_pairs_small_parts"])) == 400
+
+
+def test_the_student_read_below_the_mark_on_its_small_parts_trains_on_with_those_groups_weighted(
+    tmp_path, monkeypatch
+):
+    """Round 26's s200 student (experiments/generalist/README.md): 0.78 on the two-point drawers'
+    small parts and 0.72 / 0.76 on the doors' per side, 0.96 on the flaps'. It is read once (the
+    reads kept in its record), then trained on to 600 iterations in the run folder, the drawers
+    and doors given twice their turns (the doors 4, on top of the student's own 2 for doors)."""
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_small_parts"]
+    cfg = load_config(launch)
+    rates = {
+        ("two_point_drawer", "small"): 0.78,
+        ("two_point_flap", "small"): 0.96,
+        ("two_point_door", "small_left"): 0.72,
+        ("two_point_door", "small_right"): 0.76,
+    }
+    read, ran = [], []  # fmt: skip
+
+    def validation(checkpoint, groups, episodes, given_launch, label, resistance="",
+                   small_parts=""):  # fmt: skip
+        read.append((label, tuple(groups), resistance, small_parts))
+        return {g: rates[g, small_parts] for g in groups}
+
+    def run(self, stage, teachers=None):
+        ran.append((stage, teachers))
+        return self.final(stage)
+
+    monkeypatch.setattr(pipeline_module, "validation_success", validation)
+    monkeypatch.setattr(Pipeline, "run", run)
+    (tmp_path / "stages.json").write_text(json.dumps([{"name": "student", "success": {}}]))
+    teachers = {"two_point_door": tmp_path / "teacher_door/model_399.pt"}
+    student = tmp_path / "model_399.pt"
+    line = Pipeline(cfg, launch, tmp_path)
+    assert line.student_on(student, list(GROUPS), teachers) == tmp_path / "model_599.pt"
+    assert {(g, small) for _, groups, _, small in read for g in groups} == set(rates)
+    assert all(label == "student" and mode == "" for label, _, mode, _ in read)
+    ((stage, given),) = ran
+    assert given == teachers and stage.iterations == 600 and line.folder(stage) == tmp_path
+    assert "agent.max_iterations=600" in stage.overrides
+    weights = "asset.group_weights={door: 2, two_point_drawer: 2, two_point_door: 2}"
+    assert weights in stage.overrides
+    replaced = ("asset.group_weights", "agent.max_iterations")
+    assert sum(o.startswith(replaced) for o in stage.overrides) == 2
+    kept = json.loads((tmp_path / "stages.json").read_text())[0]
+    assert kept["validation_small"] == {"two_point_drawer": 0.78, "two_point_flap": 0.96}
+    before = len(read)
+    Pipeline(cfg, launch, tmp_path).student_on(student, list(GROUPS), teachers)
+    assert len(read) == before and ran[1][0] == stage  # a resumed launch reads nothing again
+
+
+def test_a_student_at_the_mark_everywhere_trains_on_with_its_own_draw(tmp_path, monkeypatch):
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_small_parts"]
+    cfg = load_config(launch)
+    monkeypatch.setattr(pipeline_module, "validation_success",
+                        lambda checkpoint, groups, *a, **k: dict.fromkeys(groups, 0.9))  # fmt: skip
+    ran = []
+    monkeypatch.setattr(Pipeline, "run", lambda self, stage, teachers=None: ran.append(stage))
+    Pipeline(cfg, launch, tmp_path).student_on(tmp_path / "model_399.pt", list(GROUPS), {})
+    assert "asset.group_weights={door: 2}" in ran[0].overrides
+
+
 def test_the_small_part_reads_hold_the_draw_to_each_familys_smallest_train_part():
     """Two-point doors on left-hinged bases: each family's smallest train part, the others
     withheld; a drawer's read keeps every base."""
@@ -1124,6 +1201,17 @@ def test_of_ready_stages_of_equal_length_a_group_teacher_starts_first():
         ("pipeline.own_after_fine_tune=maybe",
          "pipeline.own_after_fine_tune=maybe: use true or false"),
         ("pipeline.validation_episodes=0", "pipeline.validation_episodes=0: use a whole number"),
+        ("pipeline.student_more=2", "pipeline.student_more=2: use null or"),
+        ("pipeline.student_more={iterations: 200, below: 0.9}",
+         "pipeline.student_more=.*: use null"),
+        ("pipeline.student_more={iterations: 0, below: 0.9, weight: 2}",
+         "pipeline.student_more.iterations=0: use a whole number"),
+        ("pipeline.student_more={iterations: 200, below: 0.9, weight: 1.5}",
+         "pipeline.student_more.weight=1.5: use a whole number"),
+        ("pipeline.student_more={iterations: 200, below: 9, weight: 2}",
+         "pipeline.student_more.below=9: use a rate"),
+        ("pipeline.student_more={iterations: 200, below: 0.9, weight: 2}",
+         "pipeline.student_more with judge_small_parts=[]: the student is read"),
         ("pipeline.validation_episodes=5.5", "pipeline.validation_episodes=5.5: use a whole"),
         ("pipeline.own_teachers=[{group: knob_door, iterations: 9, switch_iteration: 0, "
          "from_kind: 2}]", "pipeline.own_teachers[knob_door].from_kind=2: use true or false"),

@@ -108,6 +108,9 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # and every two-point teacher also read on each family's smallest train part (a door on each
     # hinge side apart), a fine-tune that misses followed by a teacher of the group's own
     "distilled_pairs_small_parts": ("pipeline=distilled_pairs_small_parts",),
+    # and the student read there too once its 400 iterations are done, then trained 200 more with
+    # each group it reads below 0.9 given twice its turns of the draw
+    "distilled_pairs_student_small_parts": ("pipeline=distilled_pairs_student_small_parts",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -136,5 +139,6 @@ ROUNDS = {
     24: ("distilled_pairs_student_noise",),
     25: ("distilled_pairs_judged_high",),
     26: ("distilled_pairs_small_parts",),
+    27: ("distilled_pairs_student_small_parts",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)

@@ -51,10 +51,11 @@ def turns(count: dict[tuple, int]) -> list[tuple]:
 
 def group_turns(labels: list[tuple], weights) -> list[tuple]:
     """The draw's turns when `weights` gives groups holding a value extra turns ({door: 2}: a
-    group whose label holds `door` takes two turns for every one of the others; a label's weight
-    is the product of its values')."""
+    group whose label holds `door` takes two turns for every one of the others), or one group by
+    its name, its values joined by `_` ({two_point_door: 2} under stratify [category, kind]); a
+    label's weight is the product of its values' and its name's."""
     weights = dict(weights or {})
-    values = {v for label in labels for v in label}
+    values = {v for label in labels for v in label} | {"_".join(label) for label in labels}
     bad = {
         k: w
         for k, w in weights.items()
@@ -62,10 +63,12 @@ def group_turns(labels: list[tuple], weights) -> list[tuple]:
     }
     if bad:
         raise RealIkeaError(
-            f"asset.group_weights: {bad} is not a whole number >= 1 on a group value of "
-            f"asset.stratify ({sorted(values)})"
+            f"asset.group_weights: {bad} is not a whole number >= 1 on a group value or name "
+            f"of asset.stratify ({sorted(values)})"
         )
-    return turns({label: int(np.prod([weights.get(v, 1) for v in label])) for label in labels})
+    weight = {label: np.prod([weights.get(v, 1) for v in (*label, "_".join(label))])
+              for label in labels}  # fmt: skip
+    return turns({label: int(w) for label, w in weight.items()})
 
 
 @dataclass

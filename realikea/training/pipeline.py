@@ -83,6 +83,8 @@ STAGE_SET = {
     "distill.teachers": "pipeline=none to distil the teachers given in one run",
 }
 STUDENT = "student"
+# the student trained on past `student.iterations` (`pipeline.student_more`), in the run folder too
+STUDENT_MORE = "student_more"
 # the keys a stage sets itself, which its own overrides (a group teacher's, the student's) may not
 STAGE_KEYS = ("asset", "asset.kind", "env.seed", *STAGE_SET)
 RETRAIN = "_retrain"  # the suffix of a group's own teacher trained again (`pipeline.retrain_own`)
@@ -148,6 +150,7 @@ def check_pipeline(cfg: DictConfig) -> None:
             raise RealIkeaError(
                 f"pipeline.own_teachers[{group}].retrain_below={mark}: use a rate in [0, 1]"
             )
+    check_student_more(cfg)
     for key in ("learned", "fine_tune.below"):
         rate = OmegaConf.select(pipeline, key)
         if not is_rate(rate):
@@ -214,6 +217,30 @@ def check_judging(cfg: DictConfig) -> None:
         raise RealIkeaError(f"pipeline.validation_episodes={episodes}: use a whole number >= 1")
 
 
+def check_student_more(cfg: DictConfig) -> None:
+    """Refuse a `pipeline.student_more` that is not null or {iterations, below, weight} in range,
+    or that has no small-part reads to act on, naming the key."""
+    more = cfg.pipeline.student_more
+    if more is None:
+        return
+    keys = ("iterations", "below", "weight")
+    if not OmegaConf.is_dict(more) or set(more) != set(keys):
+        raise RealIkeaError(
+            f"pipeline.student_more={more}: use null or {{iterations: N, below: RATE, weight: W}}"
+        )
+    for key in ("iterations", "weight"):
+        value = more[key]
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise RealIkeaError(f"pipeline.student_more.{key}={value}: use a whole number >= 1")
+    if not is_rate(more.below):
+        raise RealIkeaError(f"pipeline.student_more.below={more.below}: use a rate in [0, 1]")
+    if not cfg.pipeline.judge_small_parts:
+        raise RealIkeaError(
+            "pipeline.student_more with judge_small_parts=[]: the student is read on the "
+            "small-part reads of those categories; name at least one"
+        )
+
+
 def is_rate(value: object) -> bool:
     """Whether a setting is a number in [0, 1] (true and false are not)."""
     return not isinstance(value, bool) and isinstance(value, int | float) and 0.0 <= value <= 1.0
@@ -221,8 +248,11 @@ def is_rate(value: object) -> bool:
 
 def final_iterations(cfg: DictConfig) -> int:
     """The length of the launch's run whose checkpoints are in its run folder: the student's
-    for a pipeline, the agent's otherwise."""
-    return int(cfg.pipeline.student.iterations if pipelined(cfg) else cfg.agent.max_iterations)
+    for a pipeline (with `student_more`'s iterations), the agent's otherwise."""
+    if not pipelined(cfg):
+        return int(cfg.agent.max_iterations)
+    more = cfg.pipeline.student_more
+    return int(cfg.pipeline.student.iterations) + (int(more.iterations) if more else 0)
 
 
 def own_teachers(cfg: DictConfig) -> dict[str, DictConfig]:
@@ -356,6 +386,32 @@ def student_stage(cfg: DictConfig) -> Stage:
     )  # fmt: skip
 
 
+def student_more_stage(cfg: DictConfig, launch: list[str], weak: list[str]) -> Stage:
+    """The student trained on in the run folder to its `student.iterations` plus
+    `student_more.iterations`, its draw giving each group of `weak` `student_more.weight` times
+    the turns the student's own draw gives it."""
+    student, more = student_stage(cfg), cfg.pipeline.student_more
+    own = OmegaConf.select(stage_config(cfg, launch, student), "asset.group_weights") or {}
+    weights = {str(k): int(v) for k, v in own.items()}
+    weights |= {g: weights.get(g, 1) * int(more.weight) for g in weak}
+    listed = ", ".join(f"{k}: {v}" for k, v in weights.items())
+    replaced = ("agent.max_iterations", "asset.group_weights")
+    return Stage(
+        STUDENT_MORE,
+        (*(o for o in student.overrides if override_key(o) not in replaced),
+         f"agent.max_iterations={final_iterations(cfg)}",
+         *([f"asset.group_weights={{{listed}}}"] if weights else [])),
+        final_iterations(cfg),
+    )  # fmt: skip
+
+
+def student_read_groups(cfg: DictConfig, groups: list[str]) -> list[str]:
+    """The draw's groups the student is read on before `student_more`: those with a small-part
+    read of a `judge_small_parts` category."""
+    small = {str(c) for c in cfg.pipeline.judge_small_parts}
+    return [g for g in groups if kind_and_category(g)[1] in small and small_part_reads(g)]
+
+
 def stage_config(
     cfg: DictConfig, launch: list[str], stage: Stage, teachers: dict[str, Path] | None = None
 ) -> DictConfig:
@@ -385,6 +441,8 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
             stages.append(teacher_stage(cfg, *scope, retrain=True))
         if fine_tuned(cfg, group, float(cfg.pipeline.learned)):
             stages.append(fine_tune_stage(cfg, *scope))
+    if cfg.pipeline.student_more is not None:  # every group it may weigh, weighed at once
+        stages.append(student_more_stage(cfg, launch, student_read_groups(cfg, sorted(groups))))
     for stage in stages:
         check_inputs(stage_config(cfg, launch, stage))
     return [g for g in GROUPS if g in groups]
@@ -448,7 +506,7 @@ class Pipeline:
         self.after_fine_tune: set[str] = set()
 
     def folder(self, stage: Stage) -> Path:
-        return self.root if stage.name == STUDENT else self.root / stage.name
+        return self.root if stage.name in (STUDENT, STUDENT_MORE) else self.root / stage.name
 
     def final(self, stage: Stage) -> Path:
         """The stage's last checkpoint once it is done."""
@@ -473,7 +531,7 @@ class Pipeline:
             stage_cfg.agent.max_iterations = stage.iterations - last
         elif stage.starts_from:
             stage_cfg.train.init_actor = str(self.final(teacher_stage(self.cfg, stage.kind)))
-        elif stage.name == STUDENT:
+        elif stage.name in (STUDENT, STUDENT_MORE):  # the run folder: never emptied
             (folder / "metrics.csv").unlink(missing_ok=True)  # a launch stopped before a checkpoint
         else:
             shutil.rmtree(folder, ignore_errors=True)
@@ -538,8 +596,24 @@ class Pipeline:
         self.write_records(stages)
 
     def train(self, groups: list[str]) -> Path:
-        """Every group's teacher, then the student; the student's last checkpoint."""
-        return self.run(student_stage(self.cfg), self.teachers(groups))
+        """Every group's teacher, then the student (and, with `student_more`, the student read on
+        its small-part reads and trained on, `student_on`); the student's last checkpoint."""
+        teachers = self.teachers(groups)
+        student = self.run(student_stage(self.cfg), teachers)
+        if self.cfg.pipeline.student_more is None:
+            return student
+        return self.student_on(student, groups, teachers)
+
+    def student_on(self, student: Path, groups: list[str], teachers: dict[str, Path]) -> Path:
+        """Read the student on the small-part reads of its `judge_small_parts` groups (kept in
+        its record, as a teacher's), then train it on from the same teachers with each group
+        it reads below `student_more.below` weighted (`student_more_stage`)."""
+        read = student_read_groups(self.cfg, groups)
+        rates = self.judged(student_stage(self.cfg), student, read, "validation", small_only=True)
+        below = float(self.cfg.pipeline.student_more.below)
+        weak = [g for g in read if (rates[g] or 0.0) < below]
+        print(f"student below {below} on the small parts: {', '.join(weak) or 'none'}", flush=True)
+        return self.run(student_more_stage(self.cfg, self.launch, weak), teachers)
 
     def teachers(self, groups: list[str]) -> dict[str, Path]:
         """Train the kind teachers and the groups' own ones, `stages_at_once` at a time (here
@@ -636,7 +710,12 @@ class Pipeline:
         return later
 
     def judged(
-        self, stage: Stage, checkpoint: Path, groups: list[str], judge: str
+        self,
+        stage: Stage,
+        checkpoint: Path,
+        groups: list[str],
+        judge: str,
+        small_only: bool = False,
     ) -> dict[str, float | None]:
         """Each group's success of the finished teacher (`judge`): its training success over its
         last full window, or with `validation` that of its mean action on the validation draw,
@@ -644,7 +723,8 @@ class Pipeline:
         `pipeline.judge_resistances` and, for the groups of `pipeline.judge_small_parts`, their
         small-part reads (`validation_success`; kept in RUN/stages.json under the stage's
         record, `validation`, `validation_<mode>` and `validation_<small-part read>`, so a
-        resumed launch does not judge it again)."""
+        resumed launch does not judge it again); with `small_only`, those reads alone (a group
+        without one: None)."""
         if judge == "training":
             return last_window(checkpoint.parent)
         stages = self.records()
@@ -652,7 +732,7 @@ class Pipeline:
         small = {str(c) for c in self.cfg.pipeline.judge_small_parts}
         # each read: its key in the record, the groups it applies to, how it is read
         plan = [(f"validation_{m}" if m else "validation", set(GROUPS), (m,), {})
-                for m in judged_modes(self.cfg)]  # fmt: skip
+                for m in ([] if small_only else judged_modes(self.cfg))]  # fmt: skip
         plan += [
             (f"validation_{read}", {g for g in GROUPS if kind_and_category(g)[1] in small
                                     and read in small_part_reads(g)}, (), {"small_parts": read})
@@ -672,7 +752,7 @@ class Pipeline:
                     self.write_records(stages)
             reads.append((applies, judged))
         rates = {g: [judged.get(g) for applies, judged in reads if g in applies] for g in GROUPS}
-        return {g: None if None in r else min(r) for g, r in rates.items()}
+        return {g: None if None in r or not r else min(r) for g, r in rates.items()}
 
     def records(self) -> list[dict]:
         """The finished stages' records in RUN/stages.json (none yet: empty)."""
