@@ -1324,6 +1324,33 @@ def test_a_small_pipeline_trains_its_teachers_and_student_and_resumes(tmp_path, 
     assert stages[5]["resumed_at"] == 0 and final.is_file()
 
 
+def test_a_small_pipeline_trains_its_student_on_in_the_run_folder_and_resumes(
+    tmp_path, monkeypatch, capsys
+):
+    """`pipeline.student_more`: the student is read on its small parts (stubbed at 1.0 here, so
+    no teacher rule fires; under a mark of 0 no group is weighed, which asset=two_point, without
+    group weights, needs), then resumed from its last checkpoint in the run folder to its 4th
+    iteration, recorded as `student_more`; a resumed launch finds both done."""
+    monkeypatch.setattr(pipeline_module, "validation_success",
+                        lambda checkpoint, groups, *a, **k: dict.fromkeys(groups, 1.0))  # fmt: skip
+    launch = [*SMALL_PIPELINE, "asset.part=null", "pipeline.judge=validation",
+              "pipeline.judge_small_parts=[two_point]",
+              "pipeline.student_more={iterations: 2, below: 0.0, weight: 2}",
+              f"paths.library={tmp_path / 'lib'}"]  # fmt: skip
+    run = tmp_path / "run"
+    assert train_pipeline(load_config(launch), run, launch) == run / "model_3.pt"
+    stages = {s["name"]: s for s in json.loads((run / "stages.json").read_text())}
+    assert list(stages)[-2:] == ["student", "student_more"]
+    assert stages["student_more"]["resumed_at"] == 1 and stages["student_more"]["iterations"] == 4
+    assert set(stages["student"]["validation_small"]) == {"two_point_drawer", "two_point_flap"}
+    iterations = {int(row.split(",")[0]) for row in (run / "metrics.csv").read_text().split()[1:]}
+    assert iterations == {0, 1, 2, 3}
+    assert "student below 0.0 on the small parts: none" in capsys.readouterr().out
+    resumed = load_config([*launch, f"train.resume={run}"])
+    assert train_pipeline(resumed, tmp_path / "elsewhere", launch) == run / "model_3.pt"
+    assert "student_more: done" in capsys.readouterr().out
+
+
 # the launch's mode alone is the same path with fewer reads: slow, to keep the default suite short
 @pytest.mark.parametrize("modes", [pytest.param([], marks=pytest.mark.slow), ["high"]])
 def test_a_small_pipeline_judged_on_the_validation_draw_evaluates_each_teacher_once(

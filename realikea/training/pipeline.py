@@ -441,8 +441,10 @@ def check_stages(cfg: DictConfig, launch: list[str]) -> list[str]:
             stages.append(teacher_stage(cfg, *scope, retrain=True))
         if fine_tuned(cfg, group, float(cfg.pipeline.learned)):
             stages.append(fine_tune_stage(cfg, *scope))
-    if cfg.pipeline.student_more is not None:  # every group it may weigh, weighed at once
-        stages.append(student_more_stage(cfg, launch, student_read_groups(cfg, sorted(groups))))
+    more = cfg.pipeline.student_more
+    if more is not None:  # every group it may weigh (none under a mark of 0), weighed at once
+        weighable = student_read_groups(cfg, sorted(groups)) if float(more.below) > 0 else []
+        stages.append(student_more_stage(cfg, launch, weighable))
     for stage in stages:
         check_inputs(stage_config(cfg, launch, stage))
     return [g for g in GROUPS if g in groups]
