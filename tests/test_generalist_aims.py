@@ -24,7 +24,8 @@ def test_each_recipe_trains_its_command_on_its_own_seeds_as_long_as_its_config_s
     run = aims.aim_run("hull_high", 210)
     cfg = aims.load_config(run.overrides)
     assert run.staged and cfg.pipeline.name != "none"  # python train.py trains in stages ...
-    assert run.iterations == cfg.pipeline.student.iterations  # ... its student last
+    more = cfg.pipeline.student_more  # ... its student last, trained on past its iterations
+    assert run.iterations == cfg.pipeline.student.iterations + more.iterations == 600
     assert aims.kept_dir(run) == aims.RESULTS / "hull_high" / "s210"
 
 

@@ -33,6 +33,7 @@ from realikea.training.pipeline import (
     fine_tune_stage,
     longest_first,
     stage_config,
+    student_more_stage,
     student_stage,
     teacher_stage,
     train_pipeline,
@@ -923,12 +924,12 @@ def test_every_fine_tune_the_launch_may_train_is_checked_at_launch(monkeypatch, 
     assert tuned == {f"teacher_{group}_fine_tuned" for group in set(GROUPS) - named}
 
 
-def test_python_train_py_trains_round_twenty_sixs_stages_and_the_design_cards_on_its_hull():
-    """The adopted default: `python train.py` (asset=all) composes round 26's pipeline, and each
-    of its stages is the one the screen's `pipeline=distilled_pairs_small_parts` launch
-    trained (a two-point group's own teacher too); the design card's overrides reach every
-    stage."""
-    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_small_parts"]
+def test_python_train_py_trains_round_twenty_sevens_stages_and_the_design_cards_on_its_hull():
+    """The adopted default: `python train.py` (asset=all) composes round 27's pipeline, and each
+    of its stages is the one the screen's `pipeline=distilled_pairs_student_small_parts` launch
+    trained (a two-point group's own teacher and the student trained on too); the design card's
+    overrides reach every stage."""
+    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_student_small_parts"]
     default, named = load_config(LAUNCH[1:]), load_config(screen)
     assert default.pipeline == named.pipeline
     scopes = [("drawer",), ("door",), ("flap",), ("door", "knob"), ("door", "finger_pull")]
@@ -937,6 +938,7 @@ def test_python_train_py_trains_round_twenty_sixs_stages_and_the_design_cards_on
     stages += [fine_tune_stage(default, "drawer", "two_point")]
     stages += [teacher_stage(default, "flap", "finger_pull", True)]  # a teacher-rule retrain
     stages += [teacher_stage(default, "door", "two_point")]  # own, after a missed fine-tune
+    stages += [student_more_stage(default, LAUNCH[1:], ["two_point_door", "two_point_drawer"])]
     for stage in stages:
         assert without_pipeline(stage_config(default, LAUNCH[1:], stage)) == without_pipeline(
             stage_config(named, screen, stage)

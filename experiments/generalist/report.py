@@ -35,6 +35,7 @@ RESULTS = HERE / "results"
 SUPERSEDED_SEEDS = (0, 1, 2)  # the single-task generalists (train_gated.py)
 ITERATIONS = "1,500 iterations"
 STAGED = "teachers then a student of 400 iterations"
+STAGED_MORE = "teachers then a student of 400 iterations and 200 more"  # round 27's student_more
 
 # the `gated` recipes' runs, (folder, what was trained, seeds, length): the superseded
 # single-task generalists (seeds 0-2), the superseded defaults' runs of the aims' seeds (round 1's
@@ -75,10 +76,16 @@ GATED = (
     ("hull_high_judged_high", "the design card's `python train.py collision=hull "
      "resistance=high` on the superseded default of round 25 "
      "(`pipeline=distilled_pairs_judged_high`)", AIM_SEEDS["hull_high"][:1], STAGED),
+    ("default_small_parts", "the superseded default of round 26 (`python train.py "
+     "pipeline=distilled_pairs_small_parts`: CoACD, normal, `gated`)", AIM_SEEDS["default"],
+     STAGED),
+    ("hull_high_small_parts", "the design card's `python train.py collision=hull "
+     "resistance=high` on the superseded default of round 26 "
+     "(`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["hull_high"][:1], STAGED),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["default"], STAGED),
+     "`pipeline=distilled_pairs_student_small_parts`)", AIM_SEEDS["default"], STAGED_MORE),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["hull_high"], STAGED),
+     "(`pipeline=distilled_pairs_student_small_parts`)", AIM_SEEDS["hull_high"], STAGED_MORE),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
