@@ -5,7 +5,9 @@ teacher where the pipeline names one or its kind's teacher missed it (and, with
 `pipeline.learned_retrain_below` a teacher-rule one on the seed after its own; with
 `pipeline.fine_tune`, its kind's teacher trained on to a group it left short), then every group's
 teacher (with `pipeline.best_teacher`, the one of its teachers with the highest success on it)
-distilled into one student, the launch's one checkpoint. A teacher's success on a group, which
+distilled into one student, the launch's one checkpoint (with `pipeline.student_more`, read on
+its small parts and trained on in the run folder, the groups it reads short weighted). A
+teacher's success on a group, which
 every rule reads, is its training success over its last full window, or with `pipeline.judge:
 validation` that of its mean action on the validation draw (realikea/training/validation.py);
 `pipeline.learned_judge` reads the teacher rule (a kind's teacher below `pipeline.learned`) on
