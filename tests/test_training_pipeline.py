@@ -1236,6 +1236,21 @@ def test_a_length_of_the_launch_is_refused_naming_the_stages_settings():
         check_launch(load_config(launch), launch)
 
 
+@pytest.mark.parametrize("launch", [
+    ["logger=none", "env.seed=20", "asset.group_weights={knob_flap: 3}"],  # the default's
+    [*LAUNCH, "asset.group_weights={door: 2}"],
+])  # fmt: skip
+def test_group_weights_of_the_launch_are_refused_naming_where_they_go(launch):
+    """A launch's draw weights would reach every stage, and a teacher of another kind has none
+    of those groups: refused before any work, naming the student's overrides."""
+    with pytest.raises(
+        RealIkeaError,
+        match=r"asset.group_weights: each stage of pipeline=.*"
+        r"pipeline.student.overrides",
+    ):
+        check_launch(load_config(launch), launch)
+
+
 def test_teachers_given_to_the_default_launch_are_refused_naming_one_run():
     """python train.py trains a pipeline: teachers on its command line would reach every stage
     (the teachers' too), so the launch is refused and pointed at a single distillation run."""
@@ -1245,10 +1260,14 @@ def test_teachers_given_to_the_default_launch_are_refused_naming_one_run():
 
 
 def test_a_stage_only_a_missed_group_would_train_is_checked_at_launch():
-    """asset.group_weights is a key of asset=all only: the student and the kind teachers take
-    it, a group's own teacher by the teacher rule (asset=<category>) cannot, and the launch is
-    refused before the kind teachers train rather than once one of them misses a group."""
-    launch = [*LAUNCH, "pipeline.own_teachers=[]", "asset.group_weights={knob: 2}"]
+    """asset.group_weights is a key of asset=all only: given to every stage, the student and
+    the kind teachers take it, a group's own teacher by the teacher rule (asset=<category>)
+    cannot, and the launch is refused before the kind teachers train rather than once one of
+    them misses a group."""
+    every = (
+        "pipeline.every_stage=['agent=ppo','asset.rotate_every=10','asset.group_weights={knob: 2}']"
+    )
+    launch = [*LAUNCH, "pipeline.own_teachers=[]", every]
     with pytest.raises(RealIkeaError, match="Could not override 'asset.group_weights'"):
         check_launch(load_config(launch), launch)
 
