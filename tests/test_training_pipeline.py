@@ -1241,11 +1241,11 @@ def test_a_length_of_the_launch_is_refused_naming_the_stages_settings():
     [*LAUNCH, "asset.group_weights={door: 2}"],
 ])  # fmt: skip
 def test_group_weights_of_the_launch_are_refused_naming_where_they_go(launch):
-    """A launch's draw weights would reach every stage, and a teacher of another kind has none
-    of those groups: refused before any work, naming the student's overrides."""
+    """A launch's draw weights would reach every stage, and a group's own teacher draws one
+    group: refused before any work, naming the student's overrides."""
     with pytest.raises(
         RealIkeaError,
-        match=r"asset.group_weights: each stage of pipeline=.*"
+        match=r"asset.group_weights: every stage of pipeline=.*"
         r"pipeline.student.overrides",
     ):
         check_launch(load_config(launch), launch)

@@ -812,10 +812,11 @@ def check_launch(cfg: DictConfig, launch: list[str]) -> list[str]:
             raise RealIkeaError(
                 f"{key}: each stage of pipeline={cfg.pipeline.name} sets its own; set {instead}"
             )
-    if overrides_set(launch, "asset.group_weights"):  # a teacher of another kind has none
+    if overrides_set(launch, "asset.group_weights"):  # a group's own teacher has no such key
         raise RealIkeaError(
-            f"asset.group_weights: each stage of pipeline={cfg.pipeline.name} draws its own "
-            "kind's groups; weigh the student's draw in pipeline.student.overrides"
+            f"asset.group_weights: every stage of pipeline={cfg.pipeline.name} would take it, "
+            "and a group's own teacher (asset=<category>) draws one group; weigh the student's "
+            "draw in pipeline.student.overrides"
         )
     if cfg.train.resume:
         check_resume_folder(cfg)
