@@ -807,17 +807,17 @@ def check_launch(cfg: DictConfig, launch: list[str]) -> list[str]:
     """Every check of a pipeline launch that needs no simulation (no length of its own, its
     resume folder, its settings, every stage known before training: `check_stages`); the
     draw's groups."""
-    for key, instead in STAGE_SET.items():
+    name = cfg.pipeline.name
+    refused = {key: f"each stage of pipeline={name} sets its own; set {instead}"
+               for key, instead in STAGE_SET.items()}  # fmt: skip
+    # not a STAGE_SET key: the student's own overrides may set it
+    refused["asset.group_weights"] = (
+        f"every stage of pipeline={name} would take it, and a group's own teacher "
+        "(asset=<category>) draws one group; weigh the student's draw in pipeline.student.overrides"
+    )
+    for key, why in refused.items():
         if overrides_set(launch, key):
-            raise RealIkeaError(
-                f"{key}: each stage of pipeline={cfg.pipeline.name} sets its own; set {instead}"
-            )
-    if overrides_set(launch, "asset.group_weights"):  # a group's own teacher has no such key
-        raise RealIkeaError(
-            f"asset.group_weights: every stage of pipeline={cfg.pipeline.name} would take it, "
-            "and a group's own teacher (asset=<category>) draws one group; weigh the student's "
-            "draw in pipeline.student.overrides"
-        )
+            raise RealIkeaError(f"{key}: {why}")
     if cfg.train.resume:
         check_resume_folder(cfg)
     return check_stages(cfg, launch)
