@@ -407,11 +407,17 @@ def student_more_stage(cfg: DictConfig, launch: list[str], weak: list[str]) -> S
     )  # fmt: skip
 
 
-def student_read_groups(cfg: DictConfig, groups: list[str]) -> list[str]:
-    """The draw's groups the student is read on before `student_more`: those with a small-part
-    read of a `judge_small_parts` category."""
+def judged_small_part_reads(cfg: DictConfig, group: str) -> list[str]:
+    """The small-part reads a group is judged on: its own (`small_part_reads`) when its
+    category is one of `pipeline.judge_small_parts`, else none."""
     small = {str(c) for c in cfg.pipeline.judge_small_parts}
-    return [g for g in groups if kind_and_category(g)[1] in small and small_part_reads(g)]
+    return small_part_reads(group) if kind_and_category(group)[1] in small else []
+
+
+def student_read_groups(cfg: DictConfig, groups: list[str]) -> list[str]:
+    """The draw's groups the student is read on before `student_more`: those judged on a
+    small-part read (`judged_small_part_reads`)."""
+    return [g for g in groups if judged_small_part_reads(cfg, g)]
 
 
 def stage_config(
@@ -733,13 +739,13 @@ class Pipeline:
             return last_window(checkpoint.parent)
         stages = self.records()
         record = next((s for s in stages if s["name"] == stage.name), {})
-        small = {str(c) for c in self.cfg.pipeline.judge_small_parts}
+        small_reads = {g: judged_small_part_reads(self.cfg, g) for g in GROUPS}
         # each read: its key in the record, the groups it applies to, how it is read
         plan = [(f"validation_{m}" if m else "validation", set(GROUPS), (m,), {})
                 for m in ([] if small_only else judged_modes(self.cfg))]  # fmt: skip
         plan += [
-            (f"validation_{read}", {g for g in GROUPS if kind_and_category(g)[1] in small
-                                    and read in small_part_reads(g)}, (), {"small_parts": read})
+            (f"validation_{read}", {g for g in GROUPS if read in small_reads[g]}, (),
+             {"small_parts": read})
             for read in SMALL_PART_SIDES
         ]  # fmt: skip
         reads = []
