@@ -56,10 +56,12 @@ def test_a_fresh_read_is_likelier_to_pass_the_higher_the_cell_read(chance):
 def test_each_kept_seed_gets_its_chance_and_its_least_likely_cells(chance, tmp_path):
     write_cells(tmp_path / "default/s200", ("smooth", "high"), 48, low=("door", "knob", "high", 34))
     write_cells(tmp_path / "default/s201", ("smooth", "high"), 50)
+    write_cells(tmp_path / "default/s202", ("smooth",), 50)  # its high cells not yet evaluated
     chance.main([])
     text = (tmp_path / "aim_chance.md").read_text()
     assert "| s200 | missed |" in text and "knob doors high 34/50" in text.split("| s200 |")[1]
     assert "| s201 | met | 1.00 |" in text
-    assert "| s202 | not evaluated |" in text
+    assert "| s202 | not all cells evaluated |" in text
+    assert "| s210 | not evaluated |" in text
     with pytest.raises(SystemExit):
         chance.main(["--episodes", "0"])

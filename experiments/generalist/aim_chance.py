@@ -64,6 +64,10 @@ def seed_rows(recipe: str, suffix: str, marks: dict, skip: set, n: int) -> list[
             rows.append([f"s{seed}", "not evaluated", "–", "–"])
             continue
         cells, chances, below = read_cells(path), [], False
+        counted = [(kd, cat, md) for kd, cat in GROUPS if (kd, cat) not in skip for md in marks]
+        if any(cell not in cells for cell in counted):
+            rows.append([f"s{seed}", "not all cells evaluated", "–", "–"])
+            continue
         for kind, category in GROUPS:
             if (kind, category) in skip:
                 continue
