@@ -68,19 +68,12 @@ def seed_rows(recipe: str, suffix: str, marks: dict, skip: set, n: int) -> list[
         if any(cell not in cells for cell in counted):
             rows.append([f"s{seed}", "not all cells evaluated", "–", "–"])
             continue
-        for kind, category in GROUPS:
-            if (kind, category) in skip:
-                continue
-            for mode, mark in marks.items():
-                k, n_read = cell_count(cells[(kind, category, mode)])
-                below |= k < needed(mark, n_read)
-                chance = fresh_read_chance(k, n_read, mark, n)
-                chances.append(
-                    (
-                        chance,
-                        f"{category.replace('_', '-')} {kind}s {mode} {k}/{n_read}: {chance:.2f}",
-                    )
-                )
+        for kind, category, mode in counted:
+            k, n_read = cell_count(cells[(kind, category, mode)])
+            below |= k < needed(marks[mode], n_read)
+            chance = fresh_read_chance(k, n_read, marks[mode], n)
+            name = f"{category.replace('_', '-')} {kind}s {mode}"
+            chances.append((chance, f"{name} {k}/{n_read}: {chance:.2f}"))
         read = "missed" if below else "met"
         weakest = "; ".join(text for _, text in sorted(chances)[:3])
         rows.append([f"s{seed}", read, f"{math.prod(c for c, _ in chances):.2f}", weakest])
