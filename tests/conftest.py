@@ -5,6 +5,7 @@ and the training log of hand-made episodes."""
 from __future__ import annotations
 
 import importlib.util
+import json
 import subprocess
 import sys
 
@@ -13,11 +14,33 @@ import pytest
 from realikea.assets.build import WorkflowSettings, build_library
 from realikea.assets.catalog import CATEGORIES, Catalog
 from realikea.config import load_config
+from realikea.eval.library_grid import KINDS
 from realikea.export.release import release_library
 from realikea.files import WORKSPACE, repo_path
 from realikea.sources import SOURCES
 
 SAMPLE_BASES = ("drawer_w60_h20", "door_left_w40_h80", "door_right_w60_h80", "flap_w60_h40")
+
+
+@pytest.fixture
+def write_cells():
+    """`write_cells(folder, modes, success=0.9, low=None)`: an evaluated run's cells.jsonl, 50
+    episodes a cell, every group at `success` in each mode but `low` = (kind, category, mode,
+    value)."""
+
+    def write(folder, modes, success=0.9, low=None):
+        folder.mkdir(parents=True, exist_ok=True)
+        lines = []
+        for kind in KINDS:
+            for category in CATEGORIES:
+                for mode in modes:
+                    value = low[3] if low and (kind, category, mode) == low[:3] else success
+                    record = {"kind": kind, "category": category, "resistance": mode,
+                              "episodes": 50, "success": value}  # fmt: skip
+                    lines.append(json.dumps(record))
+        (folder / "cells.jsonl").write_text("\n".join(lines) + "\n")
+
+    return write
 
 
 @pytest.fixture(scope="session")

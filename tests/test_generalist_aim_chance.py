@@ -7,9 +7,6 @@ import sys
 
 import pytest
 
-from realikea.assets.catalog import CATEGORIES
-from realikea.eval.library_grid import KINDS
-
 
 @pytest.fixture
 def chance(load_script, monkeypatch, tmp_path):
@@ -17,21 +14,6 @@ def chance(load_script, monkeypatch, tmp_path):
     monkeypatch.setattr(module, "RESULTS", tmp_path)
     monkeypatch.setattr(sys.modules["aims_report"], "HULL_FP_DOOR", tmp_path / "hull_fp_door")
     return module
-
-
-def write_cells(folder, modes, successes, low=None):
-    """Every group with `successes` of 50 in each mode, but `low` = (kind, category, mode, k)."""
-    folder.mkdir(parents=True, exist_ok=True)
-    lines = []
-    for kind in KINDS:
-        for category in CATEGORIES:
-            for mode in modes:
-                k = low[3] if low and (kind, category, mode) == low[:3] else successes
-                lines.append(
-                    f'{{"kind": "{kind}", "category": "{category}", "resistance": "{mode}", '
-                    f'"episodes": 50, "success": {k / 50}}}'
-                )
-    (folder / "cells.jsonl").write_text("\n".join(lines) + "\n")
 
 
 def test_a_mark_needs_its_successes_without_float_error(chance):
@@ -53,10 +35,12 @@ def test_a_fresh_read_is_likelier_to_pass_the_higher_the_cell_read(chance):
     assert 0.4 < reads[1] < 0.7  # a read at the mark: about a coin toss
 
 
-def test_each_kept_seed_gets_its_chance_and_its_least_likely_cells(chance, tmp_path):
-    write_cells(tmp_path / "default/s200", ("smooth", "high"), 48, low=("door", "knob", "high", 34))
-    write_cells(tmp_path / "default/s201", ("smooth", "high"), 50)
-    write_cells(tmp_path / "default/s202", ("smooth",), 50)  # its high cells not yet evaluated
+def test_each_kept_seed_gets_its_chance_and_its_least_likely_cells(chance, tmp_path, write_cells):
+    write_cells(
+        tmp_path / "default/s200", ("smooth", "high"), 0.96, low=("door", "knob", "high", 0.68)
+    )
+    write_cells(tmp_path / "default/s201", ("smooth", "high"), 1.0)
+    write_cells(tmp_path / "default/s202", ("smooth",), 1.0)  # its high cells not yet evaluated
     chance.main([])
     text = (tmp_path / "aim_chance.md").read_text()
     assert "| s200 | missed |" in text and "knob doors high 34/50" in text.split("| s200 |")[1]

@@ -7,9 +7,6 @@ import json
 
 import pytest
 
-from realikea.assets.catalog import CATEGORIES
-from realikea.eval.library_grid import KINDS
-
 
 @pytest.fixture
 def report(load_script, monkeypatch, tmp_path):
@@ -19,21 +16,7 @@ def report(load_script, monkeypatch, tmp_path):
     return module
 
 
-def write_cells(folder, modes, success=0.9, low=None):
-    """Every group at `success` in each mode, but `low` = (kind, category, mode, value)."""
-    folder.mkdir(parents=True, exist_ok=True)
-    lines = []
-    for kind in KINDS:
-        for category in CATEGORIES:
-            for mode in modes:
-                value = low[3] if low and (kind, category, mode) == low[:3] else success
-                record = {"kind": kind, "category": category, "resistance": mode,
-                          "episodes": 50, "success": value}  # fmt: skip
-                lines.append(json.dumps(record))
-    (folder / "cells.jsonl").write_text("\n".join(lines) + "\n")
-
-
-def test_a_group_below_its_mark_misses_the_aim_and_is_named(report, tmp_path):
+def test_a_group_below_its_mark_misses_the_aim_and_is_named(report, tmp_path, write_cells):
     write_cells(tmp_path / "default/s200", ("smooth", "high"), low=("door", "knob", "high", 0.68))
     (tmp_path / "default/s200/wall.json").write_text('{"launches_seconds": [3600, 2400]}')
     write_cells(tmp_path / "default/s201", ("smooth", "high"))
@@ -54,7 +37,7 @@ def test_a_group_below_its_mark_misses_the_aim_and_is_named(report, tmp_path):
 
 
 def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_fails(
-    report, tmp_path
+    report, tmp_path, write_cells
 ):
     low = ("door", "finger_pull", "high", 0.0)
     write_cells(tmp_path / "hull_high/s210_own", ("high",), low=low)
@@ -75,7 +58,9 @@ def test_the_hull_finger_pull_door_leaves_the_own_hull_aim_only_once_its_check_f
     assert figures["aim_own"]["met"] is False
 
 
-def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(report, tmp_path):
+def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(
+    report, tmp_path, write_cells
+):
     write_cells(tmp_path / "default_group_ppo/s200", ("smooth", "high"))
     (tmp_path / "hull_high_group_ppo/s210").mkdir(parents=True)
     report.main(["--superseded", "group_ppo"])
@@ -92,7 +77,9 @@ def test_a_superseded_recipes_runs_report_on_their_own_under_their_own_name(repo
     assert not (tmp_path / "aims_bogus.json").exists()
 
 
-def test_a_run_whose_stages_trained_longer_than_its_launches_has_no_one_wall_time(report, tmp_path):
+def test_a_run_whose_stages_trained_longer_than_its_launches_has_no_one_wall_time(
+    report, tmp_path, write_cells
+):
     """Stages copied from earlier runs (the union of their stages.json intervals beyond the
     launches' wall.json) leave the time aim unjudged, with the stages' minutes as a floor."""
     run = tmp_path / "default/s200"
