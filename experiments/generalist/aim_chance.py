@@ -96,9 +96,10 @@ def main(argv: list[str] | None = None) -> None:
         "## A policy at the same true rate in every counted cell",
         "",
     ]
+    judged = aims()  # reads the hull finger-pull door check once
     header = ["aim", "cells", *(f"p = {p:.2f}" for p in SAME_RATES)]
     rows = []
-    for recipe, suffix, marks, skip in aims():
+    for recipe, suffix, marks, skip in judged:
         counted = len(GROUPS) - len(skip)
         name = f"`{recipe}`{' own hull' if suffix else ''}: " + ", ".join(
             f"≥ {m:g} {mode}" for mode, m in marks.items()
@@ -106,7 +107,7 @@ def main(argv: list[str] | None = None) -> None:
         chances = [same_rate_chance(p, marks, counted, n) for p in SAME_RATES]
         rows.append([name, str(counted * len(marks)), *(f"{c:.2f}" for c in chances)])
     lines += [*table(header, "lr" + "r" * len(SAME_RATES), rows), ""]
-    for recipe, suffix, marks, skip in aims():
+    for recipe, suffix, marks, skip in judged:
         where = " on its own hull" if suffix else ""
         lines += [
             f"## `{recipe}`{where}: each kept seed's verdict on a fresh read",
