@@ -63,6 +63,11 @@ def eval_setup(overrides: list[str]):
         cfg = effective_config(cfg, policy.run_cfg, overrides)
     if hasattr(policy, "configure"):  # e.g. replay: the recorded configuration and seed
         cfg = policy.configure(cfg, overrides)
+    if cfg.task.get("mirror_doors") and not hasattr(policy, "run_cfg"):
+        raise RealIkeaError(
+            f"task.mirror_doors=true reflects what a learned policy observes; policy="
+            f"{cfg.policy.name} plans on the scene's facts, which it does not reflect"
+        )
     return cfg, policy
 
 

@@ -35,7 +35,7 @@ from realikea.sim.scene import (
     reset_home,
     subtree_geoms,
 )
-from realikea.tasks import observations
+from realikea.tasks import mirror, observations
 from realikea.tasks.contacts import (
     SAMPLE_FORCES,
     SUMMARY_KEYS,
@@ -139,6 +139,8 @@ class OpenTask:
         """The hand's nominal orientation, the home posture (turned with the hand's roll) and
         the IK controller, for the robot where the scene placed it."""
         roll = _hand_roll(self.model, self.base.mount_roll_deg, place.hand_turned)
+        # the policy sees and drives a mirrored door as its twin (`realikea/tasks/mirror.py`)
+        self.mirrored = bool(cfg.task.get("mirror_doors")) and _mirrored_door(self.model, roll)
         self.nominal = rolled_nominal(roll)
         self.home = place.home
         base = self.model.body("link0").pos.copy()  # where the scene placed the robot
@@ -302,9 +304,10 @@ class OpenTask:
         )
 
     def observe(self) -> np.ndarray:
+        """The observation (`realikea/tasks/observations.py`), a mirrored door's reflected."""
         d = self.data
         aperture, opening = self.aperture, self.opening
-        return observations.observation(
+        obs = observations.observation(
             observations.ObservationInputs(
                 d.site_xpos[self._tcp].tolist(),
                 d.site_xmat[self._tcp].reshape(3, 3).tolist(),
@@ -323,6 +326,7 @@ class OpenTask:
                 self._category,
             )
         )
+        return obs * mirror.OBSERVATION_SIGNS if self.mirrored else obs
 
     # --- episode --------------------------------------------------------------------------
     def reset(self) -> np.ndarray:
@@ -366,10 +370,13 @@ class OpenTask:
         self.state.ajar = self.state.grasped = True
 
     def apply_action(self, action) -> bool:
-        """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded."""
+        """Turn the 5-D action into actuator targets through IK; returns whether IK succeeded.
+        A mirrored door's action is reflected first (`realikea/tasks/mirror.py`)."""
         action = np.asarray(action, dtype=np.float64)
         if action.shape != (ACTION_SIZE,) or not np.isfinite(action).all():
             raise RealIkeaError(f"action must be 5 finite numbers, got {action!r}")
+        if self.mirrored:
+            action = action * mirror.ACTION_SIGNS
         # np.clip's values without its per-call overhead (the hot path runs once per env-step)
         a = np.minimum(np.maximum(action, -1.0), 1.0)
         d = self.data
