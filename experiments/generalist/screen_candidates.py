@@ -111,6 +111,8 @@ STAGED = {  # name -> the overrides of one launch that trains every stage (train
     # and the student read there too once its 400 iterations are done, then trained 200 more with
     # each group it reads below 0.9 given twice its turns of the draw
     "distilled_pairs_student_small_parts": ("pipeline=distilled_pairs_student_small_parts",),
+    # and the student seeing and driving each door whose arm starts mirrored as its hinge twin
+    "distilled_pairs_student_mirrored": ("pipeline=distilled_pairs_student_mirrored",),
 }
 ROUNDS = {
     1: ("group_ppo", "pregrasp", "distilled"),
@@ -140,5 +142,6 @@ ROUNDS = {
     25: ("distilled_pairs_judged_high",),
     26: ("distilled_pairs_small_parts",),
     27: ("distilled_pairs_student_small_parts",),
+    28: ("distilled_pairs_student_mirrored",),
 }
 CANDIDATES = tuple(c for candidates in ROUNDS.values() for c in candidates)
