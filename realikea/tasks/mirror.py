@@ -1,12 +1,13 @@
-"""A door's observation and action reflected into its mirror twin's: the left-hinged doors seen
-by the policy as the right-hinged ones they mirror.
+"""A door's observation and action reflected into its hinge twin's, so a policy sees every door
+of a category as hinged on one side (left-hinged doors as right-hinged ones; finger-pull doors,
+whose placement turns the hand, the other way: `open_task._mirrored_door`).
 
 The scene mirrors in the vertical plane through the robot base (the world's x-z plane): the
-robot stands at the mirrored place before a left-hinged door, its arm starts from the mirrored
-posture (`open_task.MIRRORED_JOINTS`) and its hand is turned a half turn (`open_task._hand_roll`).
-Reflected, a left-hinged door's observation is its right-hinged twin's, and an action the policy
-means for the twin is reflected before it drives the arm, so one policy acts on one hinge side
-(`tests/test_mirror.py` rolls twins side by side). Every term is a sign per entry:
+robot stands at the mirrored place before a door of the other hinge side, its arm starts from
+the mirrored posture (`open_task.MIRRORED_JOINTS`) and its hand is turned a half turn
+(`open_task._hand_roll`). Reflected, such a door's observation is its twin's, and an action
+the policy means for the twin is reflected before it drives the arm (`tests/test_mirror.py`
+rolls twins side by side). Every term is a sign per entry:
 
 - positions and directions (polar vectors): y negated;
 - the TCP rotation R: the world's y reflected and the hand's own x (the half turn's trace),
