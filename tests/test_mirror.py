@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from omegaconf import OmegaConf
 
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.errors import RealIkeaError
-from realikea.eval.setup import eval_setup
+from realikea.eval.setup import effective_config, eval_setup
 from realikea.policies.heuristic_pull import HeuristicPull
 from realikea.tasks import mirror, observations
 from realikea.tasks.open_task import OpenTask
@@ -87,3 +88,25 @@ def test_a_scripted_policy_with_the_mirror_is_refused():
     """Scripted policies plan on the scene's facts, which the mirror does not reflect."""
     with pytest.raises(RealIkeaError, match="task.mirror_doors"):
         eval_setup(["policy=heuristic_pull", "task.mirror_doors=true"])
+
+
+@pytest.mark.parametrize(
+    ("overrides", "mirrored"),
+    [
+        ([], True),
+        (["task.episode_seconds=20"], True),  # another task key: the run's frame stays
+        (["task.mirror_doors=false"], False),
+    ],
+)
+def test_a_checkpoint_evaluates_in_the_frame_it_trained_in(overrides, mirrored):
+    run_cfg = load_config(["task.mirror_doors=true"])
+    cfg = effective_config(load_config(overrides, "eval"), run_cfg, overrides)
+    assert cfg.task.mirror_doors is mirrored
+
+
+def test_a_checkpoint_from_before_the_mirror_evaluates_unreflected():
+    run = OmegaConf.to_container(load_config([]))
+    del run["task"]["mirror_doors"]  # a run's config written before the key existed
+    run_cfg = OmegaConf.create(run)
+    cfg = effective_config(load_config([], "eval"), run_cfg, [])
+    assert cfg.task.mirror_doors is False

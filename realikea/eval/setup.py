@@ -19,6 +19,7 @@ from realikea.tasks.start_state import CURRICULUM_KEYS
 
 # groups a checkpoint brings from its own run unless the command line overrides them
 RUN_GROUPS = ("gripper", "contact", "sim", "task", "agent")
+MIRROR_KEY = "task.mirror_doors"  # realikea/tasks/mirror.py
 # what a run's overrides say of the configurations it trained on (not carried by a checkpoint)
 CELL_KEYS = ("asset", "asset.kind", "collision", "resistance", "scene")
 
@@ -34,13 +35,16 @@ def trained_cell(run: Path) -> list[str]:
 
 def effective_config(cfg: DictConfig, run_cfg: DictConfig, overrides: list[str]) -> DictConfig:
     """The eval config with the run's robot, gripper, contact and task unless overridden; not
-    the run's start-state curriculum (every evaluated episode starts at home)."""
+    the run's start-state curriculum (every evaluated episode starts at home). The run's
+    `task.mirror_doors` is the frame its policy acts in, kept unless that key is overridden."""
     merged = OmegaConf.to_container(cfg, resolve=True)
     for group in RUN_GROUPS:
         if group in run_cfg and not overrides_set(overrides, group):
             merged[group] = OmegaConf.to_container(run_cfg[group], resolve=True)
     for key in CURRICULUM_KEYS:
         merged["task"].pop(key, None)
+    if not overrides_set(overrides, MIRROR_KEY):
+        merged["task"]["mirror_doors"] = bool(OmegaConf.select(run_cfg, MIRROR_KEY))
     return OmegaConf.create(merged)
 
 
