@@ -235,9 +235,10 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
         (25, "distilled_pairs_judged_high", 400),
         (26, "distilled_pairs_small_parts", 400),
         (27, "distilled_pairs_student_small_parts", 600),  # the student's 400 and 200 more
+        (28, "distilled_pairs_student_mirrored", 600),
     ],
 )
-def test_rounds_nine_to_twenty_seven_are_staged_launches_of_their_pipelines(
+def test_rounds_nine_on_are_staged_launches_of_their_pipelines(
     screen, round_, candidate, student
 ):
     assert screen.ROUNDS[round_] == (candidate,)

@@ -698,6 +698,31 @@ def test_round_twenty_sevens_stages_are_round_twenty_sixs_and_the_student_traine
     assert final_iterations(load_config([*LAUNCH, "pipeline=distilled_pairs_small_parts"])) == 400
 
 
+def test_round_twenty_eights_student_alone_sees_the_mirrored_doors_as_their_twins():
+    """pipeline=distilled_pairs_student_mirrored: round 27's, the student (its 400 iterations and
+    its 200 more) with task.mirror_doors=true; the teachers as round 27's (so a seed's can be
+    copied)."""
+    mirrored, before = (
+        OmegaConf.to_container(load_config([*LAUNCH, f"pipeline={name}"]))
+        for name in ("distilled_pairs_student_mirrored", "distilled_pairs_student_small_parts")
+    )
+    student, kept = mirrored["pipeline"].pop("student"), before["pipeline"].pop("student")
+    assert student["overrides"] == [*kept["overrides"], "task.mirror_doors=true"]
+    assert mirrored["pipeline"].pop("name") != before["pipeline"].pop("name")
+    assert mirrored == before
+    launch = [*LAUNCH, "pipeline=distilled_pairs_student_mirrored"]
+    cfg = load_config(launch)
+    stages = {
+        "teacher": teacher_stage(cfg, "door", "two_point"),
+        "student": student_stage(cfg),
+        "student_more": student_more_stage(cfg, launch, ["two_point_door"]),
+    }
+    seen = {
+        name: stage_config(cfg, launch, stage).task.mirror_doors for name, stage in stages.items()
+    }
+    assert seen == {"teacher": False, "student": True, "student_more": True}
+
+
 def test_the_student_read_below_the_mark_on_its_small_parts_trains_on_with_those_groups_weighted(
     tmp_path, monkeypatch
 ):
