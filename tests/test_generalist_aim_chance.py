@@ -49,3 +49,13 @@ def test_each_kept_seed_gets_its_chance_and_its_least_likely_cells(chance, tmp_p
     assert "| s210 | not evaluated |" in text
     with pytest.raises(SystemExit):
         chance.main(["--episodes", "0"])
+
+
+def test_a_superseded_recipes_runs_are_read_from_their_own_folder(chance, tmp_path, write_cells):
+    write_cells(tmp_path / "default_old/s200", ("smooth", "high"), 1.0)
+    chance.main(["--superseded", "old"])
+    text = (tmp_path / "aim_chance_old.md").read_text()
+    assert "`default_old`" in text and "| s200 | met | 1.00 |" in text
+    assert not (tmp_path / "aim_chance.md").exists()
+    with pytest.raises(SystemExit):
+        chance.main(["--superseded", "none_such"])

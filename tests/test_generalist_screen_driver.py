@@ -238,9 +238,7 @@ def test_round_eight_is_one_staged_launch_judged_on_its_student(screen, tmp_path
         (28, "distilled_pairs_student_mirrored", 600),
     ],
 )
-def test_rounds_nine_on_are_staged_launches_of_their_pipelines(
-    screen, round_, candidate, student
-):
+def test_rounds_nine_on_are_staged_launches_of_their_pipelines(screen, round_, candidate, student):
     assert screen.ROUNDS[round_] == (candidate,)
     assert screen.MARKS[round_] == 0.8 and round_ in screen.PAD_ENTERS_ROUNDS
     run = screen.staged_run(candidate, 20)

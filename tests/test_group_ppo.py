@@ -30,7 +30,7 @@ def test_the_library_draw_trains_in_stages_one_run_of_it_multi_task_ppo_one_cate
     """asset=all (python train.py's draw) selects the generalist screen's adopted pipeline and,
     for one run of it (pipeline=none), agent=multitask, round 1's group_ppo; one category, or
     agent=ppo on the command line, keeps ppo.yaml as one run."""
-    assert load_config().pipeline.name == "distilled_pairs_student_small_parts"
+    assert load_config().pipeline.name == "distilled_pairs_student_mirrored"
     assert load_config(["asset=two_point"]).pipeline.name == "none"
     library = runner_config(load_config(["pipeline=none"]))
     assert library["algorithm"]["class_name"] == GROUP_PPO

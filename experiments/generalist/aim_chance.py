@@ -6,6 +6,10 @@ results/aim_chance.md.
 
     python experiments/generalist/aim_chance.py
     python experiments/generalist/aim_chance.py --episodes 100   # the same with n episodes
+    python experiments/generalist/aim_chance.py --superseded student_small_parts   # round 27's
+
+`--superseded NAME` reads the aim runs of a recipe the defaults no longer train, kept in
+`<recipe>_NAME/` (as `aims_report.py --superseded NAME`), into aim_chance_NAME.md.
 
 Each cell's fresh read is drawn from the Jeffreys posterior of its rate (Beta(k + 1/2,
 n - k + 1/2)), so its chance is a beta-binomial tail. Cells are taken as independent; the
@@ -55,11 +59,14 @@ def fresh_read_chance(k: int, n_read: int, mark: float, n: int) -> float:
     return float(betabinom.sf(needed(mark, n) - 1, n, k + 0.5, n_read - k + 0.5))
 
 
-def seed_rows(recipe: str, suffix: str, marks: dict, skip: set, n: int) -> list[list[str]]:
-    """Per kept seed: its verdict's chance to repeat and its three least likely cells."""
+def seed_rows(
+    recipe: str, folder: str, suffix: str, marks: dict, skip: set, n: int
+) -> list[list[str]]:
+    """Per seed of the recipe's aim runs kept in `folder`: its verdict's chance to repeat and its
+    three least likely cells."""
     rows = []
     for seed in SEEDS[recipe]:
-        path = RESULTS / recipe / f"s{seed}{suffix}" / "cells.jsonl"
+        path = RESULTS / folder / f"s{seed}{suffix}" / "cells.jsonl"
         if not path.is_file():
             rows.append([f"s{seed}", "not evaluated", "–", "–"])
             continue
@@ -83,13 +90,22 @@ def seed_rows(recipe: str, suffix: str, marks: dict, skip: set, n: int) -> list[
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--episodes", type=int, default=EPISODES, help="episodes a fresh read")
-    n = parser.parse_args(argv).episodes
+    parser.add_argument(
+        "--superseded", metavar="NAME", default="", help="a superseded recipe: <recipe>_NAME/"
+    )
+    args = parser.parse_args(argv)
+    n, superseded = args.episodes, args.superseded
     if n < 1:
         parser.error(f"--episodes {n}: need at least 1")
+    folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
+    if superseded and not any((RESULTS / f).is_dir() for f in folders.values()):
+        parser.error(f"--superseded {superseded}: no folder {', '.join(folders.values())}")
+    title = f": `{superseded}`, superseded" if superseded else ""
+    command = " ".join(["--episodes", str(n), *(["--superseded", superseded] * bool(superseded))])
     lines = [
-        "# How likely the aims' verdicts are to repeat",
+        f"# How likely the aims' verdicts are to repeat{title}",
         "",
-        f"`python experiments/generalist/aim_chance.py --episodes {n}`: the aims' marks "
+        f"`python experiments/generalist/aim_chance.py {command}`: the aims' marks "
         f"(`aims_report.py`) held to a fresh read of {n} episodes a cell. Describing; cells "
         "taken as independent.",
         "",
@@ -110,7 +126,7 @@ def main(argv: list[str] | None = None) -> None:
     for recipe, suffix, marks, skip in judged:
         where = " on its own hull" if suffix else ""
         lines += [
-            f"## `{recipe}`{where}: each kept seed's verdict on a fresh read",
+            f"## `{folders[recipe]}`{where}: each kept seed's verdict on a fresh read",
             "",
             "The chance that a fresh read of every counted cell clears its mark, given each "
             "cell's own read (Jeffreys posterior), and its three least likely cells.",
@@ -118,11 +134,12 @@ def main(argv: list[str] | None = None) -> None:
             *table(
                 ["seed", "read", "chance to meet", "least likely cells"],
                 "llrl",
-                seed_rows(recipe, suffix, marks, skip, n),
+                seed_rows(recipe, folders[recipe], suffix, marks, skip, n),
             ),
             "",
         ]
-    name = "aim_chance.md" if n == EPISODES else f"aim_chance_{n}.md"
+    name = "aim_chance" + f"_{superseded}" * bool(superseded)
+    name += f"_{n}.md" if n != EPISODES else ".md"
     atomic_write_text(RESULTS / name, "\n".join(lines))
     print("\n".join(lines))
 

@@ -82,10 +82,16 @@ GATED = (
     ("hull_high_small_parts", "the design card's `python train.py collision=hull "
      "resistance=high` on the superseded default of round 26 "
      "(`pipeline=distilled_pairs_small_parts`)", AIM_SEEDS["hull_high"][:1], STAGED),
+    ("default_student_small_parts", "the superseded default of round 27 (`python train.py "
+     "pipeline=distilled_pairs_student_small_parts`: CoACD, normal, `gated`)",
+     AIM_SEEDS["default"], STAGED_MORE),
+    ("hull_high_student_small_parts", "the design card's `python train.py collision=hull "
+     "resistance=high` on the superseded default of round 27 "
+     "(`pipeline=distilled_pairs_student_small_parts`)", AIM_SEEDS["hull_high"][:2], STAGED_MORE),
     ("default", "the adopted default (`python train.py`: CoACD, normal, `gated`, "
-     "`pipeline=distilled_pairs_student_small_parts`)", AIM_SEEDS["default"], STAGED_MORE),
+     "`pipeline=distilled_pairs_student_mirrored`)", AIM_SEEDS["default"], STAGED_MORE),
     ("hull_high", "the design card's `python train.py collision=hull resistance=high` "
-     "(`pipeline=distilled_pairs_student_small_parts`)", AIM_SEEDS["hull_high"], STAGED_MORE),
+     "(`pipeline=distilled_pairs_student_mirrored`)", AIM_SEEDS["hull_high"], STAGED_MORE),
 )  # fmt: skip
 
 GRIDS = {  # folder -> what was trained
