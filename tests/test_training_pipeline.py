@@ -949,12 +949,12 @@ def test_every_fine_tune_the_launch_may_train_is_checked_at_launch(monkeypatch, 
     assert tuned == {f"teacher_{group}_fine_tuned" for group in set(GROUPS) - named}
 
 
-def test_python_train_py_trains_round_twenty_sevens_stages_and_the_design_cards_on_its_hull():
-    """The adopted default: `python train.py` (asset=all) composes round 27's pipeline, and each
-    of its stages is the one the screen's `pipeline=distilled_pairs_student_small_parts` launch
+def test_python_train_py_trains_round_twenty_eights_stages_and_the_design_cards_on_its_hull():
+    """The adopted default: `python train.py` (asset=all) composes round 28's pipeline, and each
+    of its stages is the one the screen's `pipeline=distilled_pairs_student_mirrored` launch
     trained (a two-point group's own teacher and the student trained on too); the design card's
     overrides reach every stage."""
-    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_student_small_parts"]
+    screen = [*LAUNCH[1:], "pipeline=distilled_pairs_student_mirrored"]
     default, named = load_config(LAUNCH[1:]), load_config(screen)
     assert default.pipeline == named.pipeline
     scopes = [("drawer",), ("door",), ("flap",), ("door", "knob"), ("door", "finger_pull")]
