@@ -20,14 +20,14 @@ import json
 import sys
 from pathlib import Path
 
-from small_part_reads import EPISODES, launch_overrides
+from small_part_reads import EPISODES, cell, check_runs, launch_overrides
 from validation_rule import student
 
 from realikea.assets.catalog import GROUPS, kind_and_category
 from realikea.assets.library import training_configurations
 from realikea.config import load_config
 from realikea.eval.setup import eval_setup, evaluate
-from realikea.eval.stats import count, diff_interval, wilson
+from realikea.eval.stats import count, diff_interval
 from realikea.files import atomic_write_text
 from realikea.tasks.open_task import OpenTask
 from realikea.training.validation import (
@@ -80,11 +80,6 @@ def read_missing(run: Path, groups: dict[str, str]) -> dict:
     return reads
 
 
-def cell(k: int) -> str:
-    low, high = wilson(k, EPISODES)
-    return f"{k / EPISODES:.2f} [{low:.2f}, {high:.2f}]"
-
-
 def difference(k1: int, k2: int) -> str:
     low, high = diff_interval(k1, EPISODES, k2, EPISODES)
     return f"{(k1 - k2) / EPISODES:+.2f} [{low:+.2f}, {high:+.2f}]"
@@ -93,10 +88,10 @@ def difference(k1: int, k2: int) -> str:
 def row(run: Path, group: str, mirrored: str, reads: dict[str, dict[str, float]]) -> str:
     """One table row: the mirrored side off and on, its twin side off, and the differences."""
     (twin,) = [s for s in small_part_reads(group) if s != mirrored]
-    off, on = (count(reads[mirrored][s], EPISODES) for s in ("off", "on"))
-    twin_off = count(reads[twin]["off"], EPISODES)
+    rates = [reads[mirrored]["off"], reads[mirrored]["on"], reads[twin]["off"]]
+    off, on, twin_off = (count(rate, EPISODES) for rate in rates)
     side = SMALL_PART_SIDES[mirrored]
-    return (f"| {run} | {group} | {side} | {cell(off)} | {cell(on)} | {cell(twin_off)} | "
+    return (f"| {run} | {group} | {side} | {' | '.join(map(cell, rates))} | "
             f"{difference(on, off)} | {difference(on, twin_off)} |")  # fmt: skip
 
 
@@ -107,8 +102,7 @@ def main(argv: list[str]) -> int:
                         metavar="GROUP", help="door groups (default: two_point_door)")  # fmt: skip
     args = parser.parse_args(argv)
     try:
-        for run in args.runs:
-            student(run), launch_overrides(run)
+        check_runs(args.runs)
         groups = {group: mirrored_read(group) for group in args.groups}
     except ValueError as err:
         print(f"mirror_reads.py: {err}", file=sys.stderr)

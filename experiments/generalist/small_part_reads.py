@@ -39,6 +39,12 @@ def launch_overrides(run: Path) -> list[str]:
     return list(yaml.safe_load(path.read_text()) or [])
 
 
+def check_runs(runs: list[Path]) -> None:
+    """Raises ValueError naming the first run without a student or its launch overrides."""
+    for run in runs:
+        student(run), launch_overrides(run)
+
+
 def read_missing(run: Path, groups: list[str]) -> dict[str, dict[str, float]]:
     """Every small-part read of the run's student on `groups`, reading those not yet kept."""
     path = run / READS
@@ -67,8 +73,7 @@ def main(argv: list[str]) -> int:
                         metavar="GROUP", help="default: two_point_door")  # fmt: skip
     args = parser.parse_args(argv)
     try:
-        for run in args.runs:
-            student(run), launch_overrides(run)
+        check_runs(args.runs)
     except ValueError as err:
         print(f"small_part_reads.py: {err}", file=sys.stderr)
         return 2

@@ -139,14 +139,15 @@ class OpenTask:
         """The hand's nominal orientation, the home posture (turned with the hand's roll) and
         the IK controller, for the robot where the scene placed it."""
         roll = _hand_roll(self.model, self.base.mount_roll_deg, place.hand_turned)
+        mirrored_arm = _mirrored_door(self.model, roll)
         # the policy sees and drives a mirrored door as its twin (`realikea/tasks/mirror.py`)
-        self.mirrored = bool(cfg.task.get("mirror_doors")) and _mirrored_door(self.model, roll)
+        self.mirrored = bool(cfg.task.get("mirror_doors")) and mirrored_arm
         self.nominal = rolled_nominal(roll)
         self.home = place.home
         base = self.model.body("link0").pos.copy()  # where the scene placed the robot
         if roll:  # turning the hand about its approach axis is turning joint 7
             start, posture = self.home - [0, 0, 0, 0, 0, 0, roll], None
-            if _mirrored_door(self.model, roll):  # the right-hinged twin's arm, mirrored
+            if mirrored_arm:  # the right-hinged twin's arm, mirrored
                 start = posture = MIRRORED_JOINTS * self.home
             rolled = IKController.from_config(
                 cfg, nominal=self.nominal, home=posture, base_pos=base
