@@ -23,7 +23,7 @@ import argparse
 import math
 
 from aims import GROUPS, RESULTS, SEEDS
-from aims_report import MARKS, excluded, hull_fp_door_opened
+from aims_report import MARKS, excluded, hull_fp_door_opened, recipe_folders
 from scipy.stats import betabinom, binom
 
 from realikea.eval.library_grid import cell_count, read_cells
@@ -97,9 +97,7 @@ def main(argv: list[str] | None = None) -> None:
     n, superseded = args.episodes, args.superseded
     if n < 1:
         parser.error(f"--episodes {n}: need at least 1")
-    folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
-    if superseded and not any((RESULTS / f).is_dir() for f in folders.values()):
-        parser.error(f"--superseded {superseded}: no folder {', '.join(folders.values())}")
+    folders = recipe_folders(parser, superseded, RESULTS)
     title = f": `{superseded}`, superseded" if superseded else ""
     command = " ".join(["--episodes", str(n), *(["--superseded", superseded] * bool(superseded))])
     lines = [

@@ -163,16 +163,25 @@ def seed_section(
     return [*lines, ""], figures
 
 
+def recipe_folders(
+    parser: argparse.ArgumentParser, superseded: str, results: Path
+) -> dict[str, str]:
+    """Each recipe's folder of aim runs under `results`: its own, or `<recipe>_NAME` for the
+    superseded recipe NAME (a parser error if none of those exists)."""
+    folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
+    if superseded and not any((results / f).is_dir() for f in folders.values()):
+        missing = ", ".join(str(results / f) for f in folders.values())
+        parser.error(f"--superseded {superseded}: no folder {missing}")
+    return folders
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
         "--superseded", metavar="NAME", default="", help="a superseded recipe: <recipe>_NAME/"
     )
     superseded = parser.parse_args(argv).superseded
-    folders = {recipe: f"{recipe}_{superseded}" if superseded else recipe for recipe in SEEDS}
-    if superseded and not any((RESULTS / f).is_dir() for f in folders.values()):
-        missing = ", ".join(str(RESULTS / f) for f in folders.values())
-        parser.error(f"--superseded {superseded}: no folder {missing}")
+    folders = recipe_folders(parser, superseded, RESULTS)
     opened = hull_fp_door_opened()
     check = {None: "not run yet", True: "opened it", False: "did not open it"}[opened]
     title = f": `{superseded}`, superseded" if superseded else ""
