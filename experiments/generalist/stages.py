@@ -5,13 +5,18 @@ validation`), each teacher's success there (read in other resistance modes too,
 `pipeline.judge_resistances`: "0.90 / high 0.70"); the student's teacher of each group where
 recorded; then the pipeline's span, the minutes of it with some
 stage training (a parked run's gap between launches is not) and the stages' summed minutes
-(their ratio to the former: how many trained at once on average).
+(their ratio to the former: how many trained at once on average). Last, what the launch's
+time is made of: the longest chain of stages that train one after another (the pipeline's
+order, `needs`), each stage's whole length at the pace it trained at, and the least wall time
+those lengths allow on 2 or 4 stage slots (the teachers' summed minutes over the slots, then the
+student) and on any number (the chain).
 
     python experiments/generalist/stages.py RESULTS/distilled_pairs_s20
 
 A stage resumed in a later launch shows that launch's times (`resumed at`): its minutes in an
-earlier launch are in no figure here, the launches' wall time (wall.json) has them. Exit 0, or 2
-on bad input.
+earlier launch are in no figure here but the chain's, which counts its whole length at its last
+launch's pace (marked ~); the launches' wall time (wall.json) has them. Exit 0, or 2 on bad
+input.
 """
 
 from __future__ import annotations
@@ -21,7 +26,13 @@ import json
 import sys
 from pathlib import Path
 
+from omegaconf import OmegaConf
+
+from realikea.assets.catalog import group_name
+from realikea.training.pipeline import FINE_TUNED, RETRAIN, STUDENT, STUDENT_MORE, own_teachers
 from realikea.training.queue import STAGES
+
+SLOTS = (2, 4)  # stage slots the least wall time is given for (2: the launch's pairs)
 
 
 def minutes(seconds: float | None) -> str:
@@ -43,6 +54,66 @@ def validation(record: dict, group: str) -> str:
               if k.startswith("validation_") and group in v]  # fmt: skip
     return " / ".join([f"{group} {record['validation'][group]:.2f}",
                        *(f"{mode} {v:.2f}" for mode, v in others)])  # fmt: skip
+
+
+def needs(record: dict, names: set[str], named: set[str]) -> list[str]:
+    """The stages a finished one waited for (training/pipeline.py): a retrain its first, a
+    fine-tune or a teacher starting from a kind's actor that teacher, a group teacher the
+    pipeline does not name (the teacher rule's) its fine-tune if it had one, else its kind's
+    teacher; the student every teacher, its more iterations the student."""
+    name = record["name"]
+    if name == STUDENT:
+        return sorted(n for n in names if n.startswith("teacher_"))
+    if name == STUDENT_MORE:
+        return [STUDENT]
+    if name.endswith(RETRAIN):
+        return [name.removesuffix(RETRAIN)]
+    if record.get("starts_from"):
+        return [record["starts_from"]]
+    group = group_name(record["category"], record["kind"]) if record.get("category") else ""
+    if not group or group in named:
+        return []
+    fine_tune = f"teacher_{group}{FINE_TUNED}"
+    return [fine_tune if fine_tune in names else f"teacher_{record['kind']}"]
+
+
+def whole_minutes(record: dict, by_name: dict[str, dict]) -> tuple[float, bool]:
+    """A stage's length had it trained in one launch, at the pace of its last, and whether that
+    is estimated (it was resumed). The student's more iterations go on from its last checkpoint,
+    model_<iterations - 1>, as a resume does (`resumed at`)."""
+    first = by_name[STUDENT]["iterations"] - 1 if record["name"] == STUDENT_MORE else 0
+    own, ran = record["iterations"] - first, record["iterations"] - record["resumed_at"]
+    return record["seconds"] / 60 * own / ran, ran != own
+
+
+def chain_text(stages: list[dict], named: set[str]) -> str:
+    """The longest chain of stages that train one after another, and the least wall time the
+    stages' whole lengths allow on `SLOTS` slots and on any number."""
+    by_name = {s["name"]: s for s in stages}
+    length = {name: whole_minutes(s, by_name) for name, s in by_name.items()}
+    longest: dict[str, tuple[float, list[str]]] = {}
+
+    def chain(name: str) -> tuple[float, list[str]]:
+        if name not in longest:
+            before = [chain(n) for n in needs(by_name[name], set(by_name), named) if n in by_name]
+            total, path = max(before, default=(0.0, []))
+            longest[name] = (total + length[name][0], [*path, name])
+        return longest[name]
+
+    total, path = max(chain(name) for name in by_name)
+    steps = " → ".join(f"{n} {'~' if length[n][1] else ''}{length[n][0]:.1f}" for n in path)
+    teachers = sum(m for n, (m, _) in length.items() if n.startswith("teacher_"))
+    student = sum(length[n][0] for n in (STUDENT, STUDENT_MORE) if n in length)
+    least = ", ".join(f"{max(total, teachers / k + student):.1f} on {k}" for k in SLOTS)
+    return (f"longest chain: {steps} = {total:.1f} min. At these paces the stages need at least "
+            f"{least} stage slots and {total:.1f} on any number (teachers {teachers:.1f} min "
+            f"summed, student {student:.1f})")  # fmt: skip
+
+
+def named_teachers(run: Path) -> set[str]:
+    """The groups the run's pipeline names a teacher for (its .hydra/config.yaml)."""
+    config = run / ".hydra" / "config.yaml"
+    return set(own_teachers(OmegaConf.load(config))) if config.is_file() else set()
 
 
 def main(argv: list[str]) -> int:
@@ -81,6 +152,7 @@ def main(argv: list[str]) -> int:
               f"{sum(s['seconds'] for s in timed) / training:.2f} at once on average")  # fmt: skip
     else:
         print(f"stages' minutes summed {minutes(summed)} (no stage timed)")
+    print(chain_text(stages, named_teachers(args.run)))
     return 0
 
 
