@@ -52,6 +52,8 @@ def test_a_gap_between_launches_is_not_counted_as_training(stages, tmp_path, cap
     # 35 stage-minutes while some stage trained: 10 + 20 of a 90-minute span
     assert "span 90.0 min" in out and "30.0 min of it with a stage training" in out
     assert "stages' minutes summed 35.0; 1.17 at once" in out
+    # which group teachers wait for their kind's is the run's config's to say
+    assert out.strip().endswith("longest chain: not known without the run's .hydra/config.yaml")
 
 
 def test_a_folder_without_stages_is_refused(stages, tmp_path, capsys):
@@ -96,7 +98,7 @@ def test_the_longest_chain_follows_the_pipelines_order_and_bounds_the_wall_time(
 
 
 def test_a_teacher_rule_teacher_waits_for_its_kinds_teacher(stages, tmp_path, capsys):
-    """Unnamed (no config names it), the finger-pull flap teacher follows the flap teacher:
+    """Unnamed (its config names none), the finger-pull flap teacher follows the flap teacher:
     10 + 20 + the student's 10 = 40, longer than the door teacher's 25 + 10. The teachers sum
     80 minutes, so 2 slots need at least 80 / 2 + 10 = 50, 4 slots the chain's 40."""
     records = [
@@ -107,6 +109,8 @@ def test_a_teacher_rule_teacher_waits_for_its_kinds_teacher(stages, tmp_path, ca
         stage("student", 3000, 3600),
     ]  # fmt: skip
     (tmp_path / "stages.json").write_text(json.dumps(records))
+    (tmp_path / ".hydra").mkdir()
+    (tmp_path / ".hydra" / "config.yaml").write_text("pipeline:\n  own_teachers: []\n")
     assert stages.main([str(tmp_path)]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last.startswith(

@@ -110,10 +110,11 @@ def chain_text(stages: list[dict], named: set[str]) -> str:
             f"summed, student {student:.1f})")  # fmt: skip
 
 
-def named_teachers(run: Path) -> set[str]:
-    """The groups the run's pipeline names a teacher for (its .hydra/config.yaml)."""
+def named_teachers(run: Path) -> set[str] | None:
+    """The groups the run's pipeline names a teacher for (its .hydra/config.yaml); None without
+    one."""
     config = run / ".hydra" / "config.yaml"
-    return set(own_teachers(OmegaConf.load(config))) if config.is_file() else set()
+    return set(own_teachers(OmegaConf.load(config))) if config.is_file() else None
 
 
 def main(argv: list[str]) -> int:
@@ -152,7 +153,11 @@ def main(argv: list[str]) -> int:
               f"{sum(s['seconds'] for s in timed) / training:.2f} at once on average")  # fmt: skip
     else:
         print(f"stages' minutes summed {minutes(summed)} (no stage timed)")
-    print(chain_text(stages, named_teachers(args.run)))
+    named = named_teachers(args.run)
+    if named is None:  # a group teacher waits for its kind's only if the pipeline did not name it
+        print("longest chain: not known without the run's .hydra/config.yaml")
+    else:
+        print(chain_text(stages, named))
     return 0
 
 
