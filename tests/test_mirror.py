@@ -13,6 +13,7 @@ from realikea.eval.setup import effective_config, eval_setup
 from realikea.policies.heuristic_pull import HeuristicPull
 from realikea.tasks import mirror, observations
 from realikea.tasks.open_task import OpenTask
+from realikea.tasks.recording import RecordingTask
 
 
 @pytest.fixture(scope="module")
@@ -20,14 +21,15 @@ def library(tmp_path_factory):
     return tmp_path_factory.mktemp("library")
 
 
-def _task(library, part: str, base: str, mirrored: bool) -> OpenTask:
-    """One configuration's task, poses fixed, the mirror on or off."""
+def _task(library, part: str, base: str, mirrored: bool, task_class=OpenTask) -> OpenTask:
+    """One configuration's task, poses fixed, the mirror on or off (contacts logged, as a
+    recording needs)."""
     cfg = load_config(
         [f"asset.part={part}", f"asset.base={base}", "dr=fixed", f"paths.library={library}",
-         f"task.mirror_doors={str(mirrored).lower()}"],
+         f"task.mirror_doors={str(mirrored).lower()}", "contacts.log=true"],
         "eval",
     )  # fmt: skip
-    return OpenTask(cfg, training_configurations(cfg, 1, 0)[0])
+    return task_class(cfg, training_configurations(cfg, 1, 0)[0])
 
 
 def test_every_reflected_term_is_an_observation_term():
@@ -82,6 +84,30 @@ def test_a_left_door_replays_its_right_twin_reflected(library, mirrored):
         assert gap < 0.01 and left.opening == pytest.approx(right.opening, abs=0.01)
     else:
         assert gap > 1.0 and left.opening < 0.1
+
+
+def test_a_recorded_mirrored_episode_is_kept_in_the_worlds_frame(library):
+    """A dataset of rollouts (`realikea eval ... record=DIR`) holds what happened in the scene:
+    a left-hinged door driven through the mirror records the observations and actions of the
+    same motion driven without it (the policy's own are reflected), and says it was mirrored."""
+    episodes, first_seen = {}, {}
+    for mirrored in (False, True):
+        task = _task(library, "tp_round_bar_128", "door_left_w40_h80", mirrored, RecordingTask)
+        rng, first_seen[mirrored] = np.random.default_rng(0), task.reset()
+        signs = mirror.ACTION_SIGNS if mirrored else 1.0
+        for _ in range(task.horizon):  # the same world-frame motion, given in the policy's frame
+            result = task.step(rng.uniform(-1, 1, 5) * signs)
+            if result.terminated or result.truncated:
+                break
+        episodes[mirrored] = result.info
+        assert result.info["mirrored"] is mirrored
+    plain, seen = episodes[False]["steps"], episodes[True]["steps"]
+    assert plain.length == seen.length > 1
+    np.testing.assert_array_equal(seen.observations, plain.observations)
+    np.testing.assert_array_equal(seen.actions, plain.actions)
+    # the mirrored policy itself saw the reflection of what was recorded
+    assert not np.array_equal(first_seen[True], seen.observations[0])
+    np.testing.assert_array_equal(first_seen[True] * mirror.OBSERVATION_SIGNS, seen.observations[0])
 
 
 def test_a_scripted_policy_with_the_mirror_is_refused():

@@ -8,8 +8,10 @@ and `contact.forces` (N, the control step's mean of the contact monitor's sample
 normal and friction force along the opening direction on the part and on the front off it, and
 its grip; `contacts.SAMPLE_FORCES`). The episodes table adds to lerobot's columns the
 configuration (id, part, base, category, kind, collision source, resistance, gripper, contact),
-the policy, the env and its seed, and the labels: `outcome`, `termination`, `strategy`,
-`failure_mode` (null for a success) with the classifier's and the failure modes' evidence.
+the policy, the env and its seed, whether the policy saw the door mirrored (`task.mirror_doors`;
+the frames are the world's either way, `realikea/tasks/recording.py`), and the labels:
+`outcome`, `termination`, `strategy`, `failure_mode` (null for a success) with the classifier's
+and the failure modes' evidence.
 
 A teleoperated demonstration has no contact forces in its file: `record_demonstration` replays
 it (bit for bit, `policy=replay`) and records the replay.
@@ -39,8 +41,8 @@ ACTION_NAMES = ("pitch", "dx", "dy", "dz", "gripper")  # a0 .. a4 (docs/evaluati
 PART_WORDS = {"knob": "knob", "two_point": "two-point handle", "finger_pull": "finger pull"}
 # what the episodes table keeps of an episode's record, beside the configuration
 RECORD_LABELS = (
-    "env", "env_seed", "outcome", "termination", "opening", "episode_return", "episode_steps",
-    *SUMMARY_KEYS, *FAILURE_KEYS, "policy_note",
+    "env", "env_seed", "mirrored", "outcome", "termination", "opening", "episode_return",
+    "episode_steps", *SUMMARY_KEYS, *FAILURE_KEYS, "policy_note",
 )  # fmt: skip
 
 

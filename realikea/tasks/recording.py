@@ -2,9 +2,12 @@
 
 `RecordingTask` is an `OpenTask` (the env pool steps it like any task: `EnvPool(...,
 task_factory=RecordingTask)`) whose episode record carries the episode step by step under
-`steps` (an `EpisodeSteps`), with the configuration id and the env's seed. Only an episode the
-task itself ends carries them: one the pool cuts short (divergence, a bad action, a lost
-worker) has no record of the task's.
+`steps` (an `EpisodeSteps`), with the configuration id, the env's seed and whether the policy
+saw the door mirrored. The steps are the scene's: a door the policy sees and drives as its
+hinge twin (`task.mirror_doors`, `realikea/tasks/mirror.py`) has its observations and actions
+reflected back into the world's frame, so a dataset holds one frame for every door. Only an
+episode the task itself ends carries them: one the pool cuts short (divergence, a bad action, a
+lost worker) has no record of the task's.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import numpy as np
 from omegaconf import DictConfig
 
 from realikea.errors import RealIkeaError
+from realikea.tasks import mirror
 from realikea.tasks.contacts import SAMPLE_FORCES
 from realikea.tasks.contract import StepResult
 from realikea.tasks.open_task import OpenTask
@@ -26,8 +30,9 @@ class EpisodeSteps:
     """One episode's control steps: the observation before each action, the action, and what
     followed it."""
 
-    observations: np.ndarray  # (T, observations.SIZE)
-    actions: np.ndarray  # (T, ACTION_SIZE) as the policy gave them (the task clips to [-1, 1])
+    observations: np.ndarray  # (T, observations.SIZE) in the world's frame
+    # (T, ACTION_SIZE) as the policy gave them (the task clips to [-1, 1]), in the world's frame
+    actions: np.ndarray
     rewards: np.ndarray  # (T,)
     openings: np.ndarray  # (T,) the front's joint after the step: m (drawer) or rad (hinge)
     contact_forces: np.ndarray  # (T, len(SAMPLE_FORCES)) N: the step's mean of each sample's
@@ -39,9 +44,10 @@ class EpisodeSteps:
 
 
 class RecordingTask(OpenTask):
-    """An `OpenTask` whose episode records carry `steps`, `config_id` and `env_seed`."""
+    """An `OpenTask` whose episode records carry `steps`, `config_id`, `env_seed` and
+    `mirrored`."""
 
-    episode_keys = (*OpenTask.episode_keys, "steps", "config_id", "env_seed")
+    episode_keys = (*OpenTask.episode_keys, "steps", "config_id", "env_seed", "mirrored")
 
     def __init__(self, cfg: DictConfig, config_mjcf: Path, seed: int = 0):
         """The task of `OpenTask`; it needs the contact monitor (eval's `contacts.log`)."""
@@ -57,13 +63,19 @@ class RecordingTask(OpenTask):
 
     def reset(self) -> np.ndarray:
         """Start an episode and its recording."""
-        self._obs, self._rows = super().reset(), []
-        return self._obs
+        obs = super().reset()
+        self._obs, self._rows = self._in_world(obs, mirror.OBSERVATION_SIGNS), []
+        return obs
 
     def apply_action(self, action) -> bool:
         """Keep the action, then act as the task does."""
-        self._action = np.array(action, dtype=np.float64)
+        self._action = self._in_world(np.array(action, dtype=np.float64), mirror.ACTION_SIGNS)
         return super().apply_action(action)
+
+    def _in_world(self, values: np.ndarray, signs: np.ndarray) -> np.ndarray:
+        """An observation or action as the policy had it, in the world's frame (a mirrored
+        door's reflected back: the reflection is its own inverse)."""
+        return values * signs if self.mirrored else values
 
     def evaluate(self, ik_ok: bool) -> StepResult:
         """The task's step result; the step is kept, and the episode handed over at its end."""
@@ -71,9 +83,10 @@ class RecordingTask(OpenTask):
         info = result.info
         row = (self._obs, self._action, result.reward, info["opening"], info["contact_forces"])
         self._rows.append(row)
-        self._obs = result.obs
+        self._obs = self._in_world(result.obs, mirror.OBSERVATION_SIGNS)
         if result.terminated or result.truncated:
-            info.update(steps=self._episode_steps(), config_id=self.config_id, env_seed=self.seed)
+            info.update(steps=self._episode_steps(), config_id=self.config_id, env_seed=self.seed,
+                        mirrored=self.mirrored)  # fmt: skip
         return result
 
     def _episode_steps(self) -> EpisodeSteps:
