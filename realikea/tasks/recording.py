@@ -31,7 +31,7 @@ class EpisodeSteps:
     followed it."""
 
     observations: np.ndarray  # (T, observations.SIZE) in the world's frame
-    # (T, ACTION_SIZE) as the policy gave them (the task clips to [-1, 1]), in the world's frame
+    # (T, ACTION_SIZE) the policy's, unclipped (the task clips to [-1, 1]), in the world's frame
     actions: np.ndarray
     rewards: np.ndarray  # (T,)
     openings: np.ndarray  # (T,) the front's joint after the step: m (drawer) or rad (hinge)
