@@ -91,11 +91,11 @@ def chain_text(stages: list[dict], named: set[str]) -> str:
     stages' whole lengths allow on `SLOTS` slots and on any number."""
     by_name = {s["name"]: s for s in stages}
     length = {name: whole_minutes(s, by_name) for name, s in by_name.items()}
-    longest: dict[str, tuple[float, list[str]]] = {}
+    names, longest = set(by_name), {}
 
     def chain(name: str) -> tuple[float, list[str]]:
         if name not in longest:
-            before = [chain(n) for n in needs(by_name[name], set(by_name), named) if n in by_name]
+            before = [chain(n) for n in needs(by_name[name], names, named) if n in by_name]
             total, path = max(before, default=(0.0, []))
             longest[name] = (total + length[name][0], [*path, name])
         return longest[name]

@@ -327,7 +327,13 @@ class OpenTask:
                 self._category,
             )
         )
-        return obs * mirror.OBSERVATION_SIGNS if self.mirrored else obs
+        return self.reflected(obs, mirror.OBSERVATION_SIGNS)
+
+    def reflected(self, values: np.ndarray, signs: np.ndarray) -> np.ndarray:
+        """An observation or action (`signs`: `mirror`'s for it) carried between the world's
+        frame and the policy's, either way: reflected on a mirrored door (the reflection is its
+        own inverse), unchanged on any other."""
+        return values * signs if self.mirrored else values
 
     # --- episode --------------------------------------------------------------------------
     def reset(self) -> np.ndarray:
@@ -376,8 +382,7 @@ class OpenTask:
         action = np.asarray(action, dtype=np.float64)
         if action.shape != (ACTION_SIZE,) or not np.isfinite(action).all():
             raise RealIkeaError(f"action must be 5 finite numbers, got {action!r}")
-        if self.mirrored:
-            action = action * mirror.ACTION_SIGNS
+        action = self.reflected(action, mirror.ACTION_SIGNS)
         # np.clip's values without its per-call overhead (the hot path runs once per env-step)
         a = np.minimum(np.maximum(action, -1.0), 1.0)
         d = self.data

@@ -64,18 +64,13 @@ class RecordingTask(OpenTask):
     def reset(self) -> np.ndarray:
         """Start an episode and its recording."""
         obs = super().reset()
-        self._obs, self._rows = self._in_world(obs, mirror.OBSERVATION_SIGNS), []
+        self._obs, self._rows = self.reflected(obs, mirror.OBSERVATION_SIGNS), []
         return obs
 
     def apply_action(self, action) -> bool:
         """Keep the action, then act as the task does."""
-        self._action = self._in_world(np.array(action, dtype=np.float64), mirror.ACTION_SIGNS)
+        self._action = self.reflected(np.array(action, dtype=np.float64), mirror.ACTION_SIGNS)
         return super().apply_action(action)
-
-    def _in_world(self, values: np.ndarray, signs: np.ndarray) -> np.ndarray:
-        """An observation or action as the policy had it, in the world's frame (a mirrored
-        door's reflected back: the reflection is its own inverse)."""
-        return values * signs if self.mirrored else values
 
     def evaluate(self, ik_ok: bool) -> StepResult:
         """The task's step result; the step is kept, and the episode handed over at its end."""
@@ -83,7 +78,7 @@ class RecordingTask(OpenTask):
         info = result.info
         row = (self._obs, self._action, result.reward, info["opening"], info["contact_forces"])
         self._rows.append(row)
-        self._obs = self._in_world(result.obs, mirror.OBSERVATION_SIGNS)
+        self._obs = self.reflected(result.obs, mirror.OBSERVATION_SIGNS)
         if result.terminated or result.truncated:
             info.update(steps=self._episode_steps(), config_id=self.config_id, env_seed=self.seed,
                         mirrored=self.mirrored)  # fmt: skip
